@@ -1,0 +1,25 @@
+"""Numba kernels of faultnet (imports only numpy, numba and math).
+
+The public Python layer (:mod:`faultnet.simulate`) validates input, allocates
+every array, calls these kernels and turns their status codes into exceptions.
+"""
+
+from faultnet._kernels.events import (
+    STATUS_EVENT_TOO_LONG,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_RUNAWAY,
+    STATUS_SLIPS_FULL,
+    run_events,
+)
+from faultnet._kernels.tree import build_keys_and_tree
+
+__all__ = [
+    "STATUS_EVENT_TOO_LONG",
+    "STATUS_NONFINITE",
+    "STATUS_OK",
+    "STATUS_RUNAWAY",
+    "STATUS_SLIPS_FULL",
+    "build_keys_and_tree",
+    "run_events",
+]

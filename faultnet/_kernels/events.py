@@ -1,0 +1,341 @@
+"""The event loop: load the plate to the next failure, run one slip event.
+
+``run_events`` is the only kernel the Python layer calls.  It advances the
+model by up to ``n_req`` events and fills preallocated catalog arrays.  Its
+return value is a status code (``STATUS_*``); counters are written to ``cnt``:
+
+====  =========================================================
+cnt   meaning
+====  =========================================================
+0     events completed in this call
+1     rows used in the per-block slip buffer
+2     rows used in the trajectory buffer
+3     integration steps (full and partial) in this call
+4     block-steps (slipping blocks x steps) in this call
+5     1 if the trajectory buffer filled up (recording stopped)
+====  =========================================================
+"""
+
+import math
+
+import numba as nb
+
+from faultnet._kernels.integrate import (
+    A, ACT, ACTIVE, AN, APOS, D, DN, F0, FLAG, FRONTIER, P, STUCK, TOUCH, UNTOUCHED, V, VN,
+    accel, force, hermite_dip, hermite_fall, hermite_root, rk4_step,
+)
+from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
+
+__all__ = [
+    "STATUS_OK", "STATUS_SLIPS_FULL", "STATUS_NONFINITE", "STATUS_RUNAWAY",
+    "STATUS_EVENT_TOO_LONG", "RECENTRE_AT", "run_events",
+]
+
+STATUS_OK = 0
+STATUS_SLIPS_FULL = 1
+STATUS_NONFINITE = -1
+STATUS_RUNAWAY = -2
+STATUS_EVENT_TOO_LONG = -3
+
+#: the re-centred plate coordinate ``w`` is shifted back by an integer once it
+#: exceeds this, so coordinates stay O(1) however long the run
+RECENTRE_AT = 4.0
+
+_STICK = 1
+_JOIN = 2
+
+
+@nb.njit(cache=True, nogil=True)
+def _touch(j, w, keys, W, IW, ntouch):
+    """Mark block j touched and store its force at the start of the event."""
+    IW[FLAG, j] = FRONTIER
+    W[F0, j] = 1.0 + w - keys[j]
+    IW[TOUCH, ntouch] = j
+    return ntouch + 1
+
+
+@nb.njit(cache=True, nogil=True)
+def _activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Block j starts to slip from rest; its neighbours become touched."""
+    IW[FLAG, j] = ACTIVE
+    IW[ACT, nact] = j
+    IW[APOS, j] = nact
+    W[V, j] = 0.0
+    W[VN, j] = 0.0
+    for p in range(indptr[j], indptr[j + 1]):
+        nb_ = indices[p]
+        if IW[FLAG, nb_] == UNTOUCHED:
+            ntouch = _touch(nb_, w, keys, W, IW, ntouch)
+    W[A, j] = accel(j, W[P], W[V], W, indptr, indices, kval, diag, oms, cfr)
+    return nact + 1, ntouch
+
+
+@nb.njit(cache=True, nogil=True)
+def _deactivate(i, nact, W, IW):
+    """Block i sticks (v = 0); swap-remove it from the active list."""
+    q = IW[APOS, i]
+    last = IW[ACT, nact - 1]
+    IW[ACT, q] = last
+    IW[APOS, last] = q
+    IW[FLAG, i] = STUCK
+    W[V, i] = 0.0
+    W[VN, i] = 0.0
+    return nact - 1
+
+
+@nb.njit(cache=True, nogil=True)
+def _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Activate every stuck neighbour of a slipping block whose force is >= 1."""
+    q = 0
+    while q < nact:
+        i = IW[ACT, q]
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if IW[FLAG, j] != ACTIVE:
+                if force(j, W[D], W, indptr, indices, kval, diag) >= 1.0:
+                    nact, ntouch = _activate(
+                        j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+                    )
+        q += 1
+    return nact, ntouch
+
+
+@nb.njit(cache=True, nogil=True)
+def _stick_scan(nact, W, IW):
+    """Deactivate every slipping block that has stopped (v <= 0, a <= 0).
+
+    A block that has just joined has v = 0 but a > 0 and keeps slipping.
+    """
+    for q in range(nact - 1, -1, -1):
+        i = IW[ACT, q]
+        if W[V, i] <= 0.0 and W[A, i] <= 0.0:
+            nact = _deactivate(i, nact, W, IW)
+    return nact
+
+
+@nb.njit(cache=True, nogil=True)
+def _earliest_crossing(h, nact, W, IW, indptr, indices, kval, diag, vmax):
+    """Earliest stick or join inside the step just taken (D,V,A -> DN,VN,AN).
+
+    Returns (theta, block, kind, status): theta in [0, 1] is the fraction of
+    the step, block is -1 when nothing happens inside the step.
+    """
+    best = 2.0
+    who = -1
+    kind = 0
+    for q in range(nact):
+        i = IW[ACT, q]
+        v0 = W[V, i]
+        v1 = W[VN, i]
+        if not (v1 < vmax):
+            return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
+        if v1 <= 0.0:
+            if v0 > 0.0:
+                th = hermite_root(0.0, 1.0, v0, h * W[A, i], v1, h * W[AN, i])
+            else:  # joined at rest and stops again within the step
+                th = hermite_fall(h * W[A, i], v1, h * W[AN, i])
+        elif W[A, i] < 0.0 and W[AN, i] > 0.0:
+            th = hermite_dip(v0, h * W[A, i], v1, h * W[AN, i])
+        else:
+            continue
+        if th < best:
+            best, who, kind = th, i, _STICK
+    for q in range(nact):
+        i = IW[ACT, q]
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if IW[FLAG, j] == ACTIVE:
+                continue
+            f1 = force(j, W[P], W, indptr, indices, kval, diag)
+            if f1 < 1.0:
+                continue
+            f0 = force(j, W[D], W, indptr, indices, kval, diag)
+            if f0 >= 1.0:
+                th = 0.0
+            else:
+                df0 = 0.0
+                df1 = 0.0
+                for r in range(indptr[j], indptr[j + 1]):
+                    df0 += kval[r] * W[V, indices[r]]
+                    df1 += kval[r] * W[VN, indices[r]]
+                th = hermite_root(0.0, 1.0, f0 - 1.0, h * df0, f1 - 1.0, h * df1)
+            if th < best:
+                best, who, kind = th, j, _JOIN
+    return best, who, kind, STATUS_OK
+
+
+@nb.njit(cache=True, nogil=True)
+def _commit(nact, W, IW):
+    for q in range(nact):
+        i = IW[ACT, q]
+        W[D, i] = W[DN, i]
+        W[V, i] = W[VN, i]
+        W[A, i] = W[AN, i]
+
+
+@nb.njit(cache=True, nogil=True)
+def _restore_positions(nact, W, IW):
+    for q in range(nact):
+        i = IW[ACT, q]
+        W[P, i] = W[D, i]
+
+
+@nb.njit(cache=True, nogil=True)
+def _record_trace(ev, t, offset, z, W, trace_nodes, trace_buf, cnt):
+    row = cnt[2]
+    if row >= trace_buf.shape[0]:
+        cnt[5] = 1
+        return
+    m = trace_nodes.shape[0]
+    trace_buf[row, 0] = ev
+    trace_buf[row, 1] = t
+    for c in range(m):
+        j = trace_nodes[c]
+        trace_buf[row, 2 + c] = offset + (z[j] + W[D, j])
+        trace_buf[row, 2 + m + c] = W[V, j]
+    cnt[2] = row + 1
+
+
+@nb.njit(cache=True, nogil=True)
+def _finish_event(ntouch, ev, z, keys, tree, W, IW, indptr, indices, kval, diag,
+                  slip_event, slip_node, slip_val, cnt):
+    """Apply the slips, refresh keys of touched blocks, reset the work rows."""
+    total = 0.0
+    nblk = 0
+    rec = slip_val.shape[0] > 0
+    row = cnt[1]
+    for q in range(ntouch):
+        j = IW[TOUCH, q]
+        if IW[FLAG, j] == STUCK:
+            s = W[D, j]
+            total += s
+            nblk += 1
+            z[j] += s
+            if rec:
+                slip_event[row] = ev
+                slip_node[row] = j
+                slip_val[row] = s
+                row += 1
+    cnt[1] = row
+    for q in range(ntouch):
+        j = IW[TOUCH, q]
+        keys[j] = block_key(j, z, indptr, indices, kval, diag)
+        tree_update(j, keys, tree)
+        W[D, j] = 0.0
+        W[P, j] = 0.0
+        IW[FLAG, j] = UNTOUCHED
+    return total, nblk
+
+
+@nb.njit(cache=True, nogil=True)
+def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
+               ctrl, slip_event, slip_node, slip_val, trace_nodes, trace_buf, cnt, out):
+    """Load the plate to the next failure and run one slip event to its end.
+
+    ``out`` receives (t_start, duration, S, n_blocks, hypocenter, n_steps).
+    Returns a status code.
+    """
+    dt, max_duration, vmax = ctrl[0], ctrl[1], ctrl[2]
+    max_steps = 4.0 * max_duration / dt + 10000.0
+    hyp = tree[1]
+    if keys[hyp] > scal[1]:
+        scal[1] = keys[hyp]
+    w = scal[1]
+    out[0] = scal[0] + w
+    out[4] = hyp
+    ntouch = _touch(hyp, w, keys, W, IW, 0)
+    nact, ntouch = _activate(hyp, 0, ntouch, w, keys, W, IW, indptr, indices, kval, diag,
+                             oms, cfr)
+    nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag,
+                              oms, cfr)
+    tracing = trace_nodes.shape[0] > 0
+    if tracing:
+        _record_trace(ev, 0.0, scal[0], z, W, trace_nodes, trace_buf, cnt)
+    t = 0.0
+    nsteps = 0
+    while nact > 0:
+        rk4_step(dt, nact, IW[ACT], W, indptr, indices, kval, diag, oms, cfr)
+        th, who, kind, status = _earliest_crossing(dt, nact, W, IW, indptr, indices, kval,
+                                                   diag, vmax)
+        if status != STATUS_OK:
+            return status
+        nsteps += 1
+        cnt[4] += nact
+        if who < 0:
+            _commit(nact, W, IW)
+            t += dt
+        else:
+            if th > 0.0:
+                rk4_step(th * dt, nact, IW[ACT], W, indptr, indices, kval, diag, oms, cfr)
+                _commit(nact, W, IW)
+                t += th * dt
+                nsteps += 1
+                cnt[4] += nact
+            else:
+                _restore_positions(nact, W, IW)
+            if kind == _STICK and IW[FLAG, who] == ACTIVE:
+                nact = _deactivate(who, nact, W, IW)
+            elif kind == _JOIN and IW[FLAG, who] != ACTIVE:
+                nact, ntouch = _activate(who, nact, ntouch, w, keys, W, IW, indptr, indices,
+                                         kval, diag, oms, cfr)
+            nact = _stick_scan(nact, W, IW)
+            nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval,
+                                      diag, oms, cfr)
+        if tracing:
+            _record_trace(ev, t, scal[0], z, W, trace_nodes, trace_buf, cnt)
+        if t > max_duration or nsteps > max_steps:
+            return STATUS_EVENT_TOO_LONG
+    total, nblk = _finish_event(ntouch, ev, z, keys, tree, W, IW, indptr, indices, kval, diag,
+                                slip_event, slip_node, slip_val, cnt)
+    out[1] = t
+    out[2] = total
+    out[3] = nblk
+    out[5] = nsteps
+    cnt[3] += nsteps
+    return STATUS_OK
+
+
+@nb.njit(cache=True, nogil=True)
+def _recentre(z, scal, keys, tree, indptr, indices, kval, diag):
+    """Shift the frame by an integer so the plate coordinate stays O(1)."""
+    shift = math.floor(scal[1])
+    scal[0] += shift
+    scal[1] -= shift
+    for i in range(z.shape[0]):
+        z[i] -= shift
+    build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree)
+
+
+@nb.njit(cache=True, nogil=True)
+def run_events(n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
+               ctrl, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes, trace_buf,
+               profiles, cnt, out):
+    """Run up to ``n_req`` events; see the module docstring for ``cnt``.
+
+    State: ``z`` (displacements minus ``scal[0]``), ``scal = [offset, w]``
+    (w: plate position minus offset), ``keys`` and ``tree`` (consistent with
+    z).  Catalog rows: ``cat_f[e] = (t, duration, S)``,
+    ``cat_i[e] = (n_blocks, hypocenter, n_steps)``.
+    """
+    n = z.shape[0]
+    for e in range(n_req):
+        if slip_val.shape[0] > 0 and cnt[1] + n > slip_val.shape[0]:
+            return STATUS_SLIPS_FULL
+        status = _one_event(ev0 + e, z, scal, keys, tree, W, IW, indptr, indices, kval, diag,
+                            oms, cfr, ctrl, slip_event, slip_node, slip_val, trace_nodes,
+                            trace_buf, cnt, out)
+        if status != STATUS_OK:
+            return status
+        cat_f[e, 0] = out[0]
+        cat_f[e, 1] = out[1]
+        cat_f[e, 2] = out[2]
+        cat_i[e, 0] = int(out[3])
+        cat_i[e, 1] = int(out[4])
+        cat_i[e, 2] = int(out[5])
+        if profiles.shape[0] > 0:
+            for i in range(n):
+                profiles[e, i] = scal[0] + z[i]
+        cnt[0] = e + 1
+        if scal[1] > RECENTRE_AT:
+            _recentre(z, scal, keys, tree, indptr, indices, kval, diag)
+    return STATUS_OK

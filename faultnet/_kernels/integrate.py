@@ -1,0 +1,204 @@
+"""Inside an event: forces, one RK4 step of the slipping blocks, Hermite roots.
+
+Only *active* (slipping) blocks are integrated.  Positions are displacements
+``delta`` since the start of the event, so round-off does not grow with the
+plate position.  Work arrays live in the rows of ``W`` (float) and ``IW``
+(int), each of length N; the row names are the constants below.
+
+Invariants kept by every kernel:
+- ``W[P, j] == W[D, j]`` for every block that is not active (neighbours read P);
+- ``W[V, j] == W[VN, j] == 0`` for every block that is not active;
+- every neighbour of an active block is *touched* (``IW[FLAG] != UNTOUCHED``)
+  and has its starting force in ``W[F0]``.
+"""
+
+import numba as nb
+
+__all__ = [
+    "A", "AN", "D", "DN", "F0", "P", "SA", "SV", "TMP", "V", "VN", "VS", "N_WORK",
+    "FLAG", "ACT", "TOUCH", "APOS", "N_IWORK",
+    "UNTOUCHED", "ACTIVE", "STUCK", "FRONTIER",
+    "accel", "force", "rk4_step", "hermite", "hermite_dip", "hermite_fall", "hermite_root",
+]
+
+# float work rows
+D, P, V, A, DN, VN, AN, SV, SA, VS, TMP, F0 = range(12)
+N_WORK = 12
+# int work rows
+FLAG, ACT, TOUCH, APOS = range(4)
+N_IWORK = 4
+# block flags during an event
+UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
+
+
+@nb.njit(cache=True, nogil=True, inline="always")
+def force(i, pos, W, indptr, indices, kval, diag):
+    """Force on touched block ``i`` for displacements ``pos`` (a row of W)."""
+    s = 0.0
+    for p in range(indptr[i], indptr[i + 1]):
+        s += kval[p] * pos[indices[p]]
+    return W[F0, i] + s - diag[i] * pos[i]
+
+
+@nb.njit(cache=True, nogil=True, inline="always")
+def accel(i, pos, vel, W, indptr, indices, kval, diag, oms, cfr):
+    """Acceleration of slipping block ``i``: force minus kinetic friction.
+
+    phi(v) = (1 - sigma) / (1 + 2 alpha v / (1 - sigma)); RK stages may probe
+    small negative v, where the same analytic formula is used with its
+    denominator floored at 1/2 (never reached with sane steps).
+    """
+    den = 1.0 + cfr[i] * vel[i]
+    if den < 0.5:
+        den = 0.5
+    return force(i, pos, W, indptr, indices, kval, diag) - oms[i] / den
+
+
+@nb.njit(cache=True, nogil=True)
+def rk4_step(h, nact, act, W, indptr, indices, kval, diag, oms, cfr):
+    """Classical RK4 step of length ``h`` from (D, V, A) to (DN, VN, AN).
+
+    Leaves ``P == DN`` on active blocks; D, V, A are untouched so the step can
+    be redone with a shorter ``h``.
+    """
+    hh = 0.5 * h
+    Pr, Vs, Tm = W[P], W[VS], W[TMP]
+    for q in range(nact):
+        i = act[q]
+        W[SV, i] = W[V, i]
+        W[SA, i] = W[A, i]
+        Pr[i] = W[D, i] + hh * W[V, i]
+        Vs[i] = W[V, i] + hh * W[A, i]
+    for q in range(nact):
+        i = act[q]
+        Tm[i] = accel(i, Pr, Vs, W, indptr, indices, kval, diag, oms, cfr)
+    for q in range(nact):
+        i = act[q]
+        W[SV, i] += 2.0 * Vs[i]
+        W[SA, i] += 2.0 * Tm[i]
+        Pr[i] = W[D, i] + hh * Vs[i]
+        Vs[i] = W[V, i] + hh * Tm[i]
+    for q in range(nact):
+        i = act[q]
+        Tm[i] = accel(i, Pr, Vs, W, indptr, indices, kval, diag, oms, cfr)
+    for q in range(nact):
+        i = act[q]
+        W[SV, i] += 2.0 * Vs[i]
+        W[SA, i] += 2.0 * Tm[i]
+        Pr[i] = W[D, i] + h * Vs[i]
+        Vs[i] = W[V, i] + h * Tm[i]
+    for q in range(nact):
+        i = act[q]
+        Tm[i] = accel(i, Pr, Vs, W, indptr, indices, kval, diag, oms, cfr)
+    h6 = h / 6.0
+    for q in range(nact):
+        i = act[q]
+        W[DN, i] = W[D, i] + h6 * (W[SV, i] + Vs[i])
+        W[VN, i] = W[V, i] + h6 * (W[SA, i] + Tm[i])
+        Pr[i] = W[DN, i]
+    for q in range(nact):
+        i = act[q]
+        W[AN, i] = accel(i, Pr, W[VN], W, indptr, indices, kval, diag, oms, cfr)
+
+
+@nb.njit(cache=True, nogil=True, inline="always")
+def hermite(th, y0, m0, y1, m1):
+    """Cubic Hermite interpolant on [0, 1]; m0, m1 are slopes times h."""
+    t2 = th * th
+    t3 = t2 * th
+    return (
+        (2.0 * t3 - 3.0 * t2 + 1.0) * y0
+        + (t3 - 2.0 * t2 + th) * m0
+        + (3.0 * t2 - 2.0 * t3) * y1
+        + (t3 - t2) * m1
+    )
+
+
+@nb.njit(cache=True, nogil=True, inline="always")
+def _hermite_slope(th, y0, m0, y1, m1):
+    t2 = th * th
+    return (
+        (6.0 * t2 - 6.0 * th) * y0
+        + (3.0 * t2 - 4.0 * th + 1.0) * m0
+        + (6.0 * th - 6.0 * t2) * y1
+        + (3.0 * t2 - 2.0 * th) * m1
+    )
+
+
+@nb.njit(cache=True, nogil=True)
+def hermite_root(lo, hi, y0, m0, y1, m1):
+    """Root of the Hermite cubic in [lo, hi], where it changes sign.
+
+    Safeguarded Newton: a Newton step that leaves the bracket is replaced by
+    bisection.  Converges to round-off in a handful of iterations.
+    """
+    flo = hermite(lo, y0, m0, y1, m1)
+    th = 0.5 * (lo + hi)
+    for _ in range(60):
+        f = hermite(th, y0, m0, y1, m1)
+        if f == 0.0:
+            return th
+        if (f > 0.0) == (flo > 0.0):
+            lo, flo = th, f
+        else:
+            hi = th
+        d = _hermite_slope(th, y0, m0, y1, m1)
+        nxt = th - f / d if d != 0.0 else 0.5 * (lo + hi)
+        if not (lo < nxt < hi):
+            nxt = 0.5 * (lo + hi)
+        if abs(nxt - th) <= 1e-15:
+            return nxt
+        th = nxt
+    return th
+
+
+@nb.njit(cache=True, nogil=True, inline="always")
+def _first_critical(y0, m0, y1, m1):
+    """Smallest root in (0, 1) of the Hermite cubic's slope, or 2.0."""
+    c2 = 6.0 * y0 + 3.0 * m0 - 6.0 * y1 + 3.0 * m1
+    c1 = -6.0 * y0 - 4.0 * m0 + 6.0 * y1 - 2.0 * m1
+    c0 = m0
+    best = 2.0
+    if c2 == 0.0:
+        if c1 != 0.0:
+            best = -c0 / c1
+    else:
+        disc = c1 * c1 - 4.0 * c2 * c0
+        if disc >= 0.0:
+            r = disc**0.5
+            r1 = (-c1 - r) / (2.0 * c2)
+            r2 = (-c1 + r) / (2.0 * c2)
+            lo, hi = min(r1, r2), max(r1, r2)
+            best = lo if lo > 0.0 else hi
+    if not (0.0 < best < 1.0):
+        return 2.0
+    return best
+
+
+@nb.njit(cache=True, nogil=True)
+def hermite_fall(m0, y1, m1):
+    """Root in (0, 1] of a velocity that starts at 0 rising (m0 > 0) and ends <= 0.
+
+    Returns 0.0 when the cubic never rises above 0 (stop at once).
+    """
+    if m0 <= 0.0:
+        return 0.0
+    peak = _first_critical(0.0, m0, y1, m1)
+    if peak > 1.0 or hermite(peak, 0.0, m0, y1, m1) <= 0.0:
+        return 0.0
+    return hermite_root(peak, 1.0, 0.0, m0, y1, m1)
+
+
+@nb.njit(cache=True, nogil=True)
+def hermite_dip(y0, m0, y1, m1):
+    """First root in (0, 1] of a Hermite cubic with y0 > 0, y1 > 0, or 2.0.
+
+    Used for a velocity that dips below zero inside a step although both
+    ends are positive (the block should have stuck inside the step).
+    """
+    best = _first_critical(y0, m0, y1, m1)
+    if best > 1.0:
+        return 2.0
+    if hermite(best, y0, m0, y1, m1) > 0.0:
+        return 2.0
+    return hermite_root(0.0, best, y0, m0, y1, m1)

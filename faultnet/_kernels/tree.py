@@ -1,0 +1,72 @@
+"""Failure keys and a tournament (min) tree over them.
+
+Every stuck block ``i`` has a *key*: the (re-centred) plate position at which
+its force reaches the static threshold 1,
+
+    key_i = 1 + diag_i z_i - sum_j k_ij z_j ,
+
+with ``diag_i = 1 + sum_j k_ij``.  Keys do not depend on the plate position,
+so they only change where an event moved blocks.  The next failing block is
+the root of a tournament tree over the keys: O(1) to read, O(log N) to update
+one leaf.  Ties go to the lower block index.
+"""
+
+import numba as nb
+import numpy as np
+
+__all__ = ["block_key", "build_keys_and_tree", "tree_update"]
+
+
+@nb.njit(cache=True, nogil=True)
+def block_key(i, z, indptr, indices, kval, diag):
+    """Plate position (re-centred frame) at which block ``i`` fails."""
+    s = 0.0
+    for p in range(indptr[i], indptr[i + 1]):
+        s += kval[p] * z[indices[p]]
+    return 1.0 + diag[i] * z[i] - s
+
+
+@nb.njit(cache=True, nogil=True)
+def _winner(a, b, keys):
+    if a < 0:
+        return b
+    if b < 0:
+        return a
+    if keys[b] < keys[a]:
+        return b
+    return a
+
+
+@nb.njit(cache=True, nogil=True)
+def build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree):
+    """Recompute every key from ``z`` and rebuild the tree (O(N))."""
+    n = z.shape[0]
+    leaves = tree.shape[0] // 2
+    for i in range(n):
+        keys[i] = block_key(i, z, indptr, indices, kval, diag)
+    for i in range(leaves):
+        tree[leaves + i] = i if i < n else -1
+    for p in range(leaves - 1, 0, -1):
+        tree[p] = _winner(tree[2 * p], tree[2 * p + 1], keys)
+
+
+@nb.njit(cache=True, nogil=True)
+def tree_update(i, keys, tree):
+    """Restore the tree after ``keys[i]`` changed (O(log N))."""
+    p = (tree.shape[0] // 2 + i) // 2
+    while p >= 1:
+        tree[p] = _winner(tree[2 * p], tree[2 * p + 1], keys)
+        p //= 2
+
+
+def tree_size(n):
+    """Length of the tree array for ``n`` leaves (a power of two, doubled)."""
+    leaves = 1
+    while leaves < n:
+        leaves *= 2
+    return 2 * leaves
+
+
+def empty_tree(n):
+    """Allocate a tree for ``n`` blocks."""
+    return np.full(tree_size(n), -1, dtype=np.int64)

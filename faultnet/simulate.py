@@ -1,0 +1,372 @@
+"""Run the model: validate, allocate, call the Numba kernel in chunks, wrap.
+
+The plate is never time-stepped: between events it jumps analytically to the
+next failure (a tournament tree over per-block failure keys).  Inside an event
+only the slipping blocks are integrated with classical RK4 at a fixed step
+``dt``; stick (v -> 0) and join (F -> 1) instants are located inside a step
+by a cubic Hermite interpolant and the step is redone up to that instant, so
+the scheme keeps its fourth order (see ``tests/test_convergence.py``).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from faultnet import _kernels as K
+from faultnet._kernels.integrate import N_IWORK, N_WORK
+from faultnet._kernels.tree import empty_tree
+from faultnet.catalog import SimulationResult, events_frame, slips_frame, traces_frame
+from faultnet.exceptions import (
+    EventTooLongError,
+    InvalidParameterError,
+    NumericalInstabilityError,
+)
+from faultnet.model import CarlsonLanger
+from faultnet.state import State
+
+__all__ = ["DT_COEFFICIENT", "default_dt", "simulate", "slip_event"]
+
+#: default step = DT_COEFFICIENT / sqrt(omega2_max); see :func:`default_dt`
+DT_COEFFICIENT = 0.08
+#: RK4 is stable on an oscillator for omega*dt < 2.83; refuse steps near it
+_DT_STABILITY = 2.5
+#: initial displacements are drawn uniformly from [0, X0_AMPLITUDE)
+X0_AMPLITUDE = 0.01
+_MAX_PROFILE_VALUES = 20_000_000
+
+
+def omega2_max(model: CarlsonLanger) -> float:
+    """Gershgorin bound on the squared top frequency, plus the alpha growth rate.
+
+    ``max_i (1 + 2 sum_j k_ij) + max_i alpha_i^2``: the largest eigenvalue of
+    the dynamical matrix ``L + I`` is at most the first term; the second
+    accounts for the growth rate of the negative damping ``2 alpha``.
+    """
+    deg = np.asarray(model.adjacency.sum(axis=1)).ravel()
+    return float(np.max(1.0 + 2.0 * deg) + np.max(model.alpha_values) ** 2)
+
+
+def default_dt(model: CarlsonLanger) -> float:
+    """Default integration step: ``DT_COEFFICIENT / sqrt(omega2_max(model))``.
+
+    With the coefficient 0.02 slip sizes of single events are within ~1e-7
+    relative of the dt -> 0 limit on the one-block, two-block and ring test
+    cases (``tests/test_accuracy.py``).
+
+    >>> import faultnet
+    >>> round(default_dt(faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=2.0)), 6)
+    0.008944
+    """
+    return DT_COEFFICIENT / math.sqrt(omega2_max(model))
+
+
+def _check_count(n_events):
+    if isinstance(n_events, bool) or not isinstance(n_events, (int, np.integer)):
+        raise InvalidParameterError(f"n_events must be a positive integer; got {n_events!r}")
+    if n_events <= 0:
+        raise InvalidParameterError(f"n_events must be > 0; got {n_events}")
+    return int(n_events)
+
+
+def _check_dt(model, dt):
+    if dt is None:
+        return default_dt(model)
+    dt = float(dt)
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise InvalidParameterError(f"dt must be finite and > 0; got {dt!r}")
+    limit = _DT_STABILITY / math.sqrt(omega2_max(model))
+    if dt > limit:
+        raise InvalidParameterError(
+            f"dt={dt:g} is beyond the RK4 stability limit {limit:.4g} of this model "
+            f"(stiffest block); use dt <= {limit:.4g} or leave dt=None for {default_dt(model):.4g}"
+        )
+    return dt
+
+
+def _seed_and_rng(rng):
+    """SPEC 7: normalise ``rng``; record the SeedSequence when we can."""
+    if isinstance(rng, np.random.Generator):
+        seq = getattr(rng.bit_generator, "seed_seq", None)
+        return rng, seq
+    seq = rng if isinstance(rng, np.random.SeedSequence) else np.random.SeedSequence(rng)
+    return np.random.default_rng(seq), seq
+
+
+def _initial_state(model, x0, rng):
+    """State from ``x0`` (array, State or SimulationResult) or drawn from ``rng``."""
+    if isinstance(x0, SimulationResult):
+        x0 = x0.state
+    if isinstance(x0, State):
+        z = np.asarray(x0.z, dtype=np.float64)
+        if z.shape != (model.n,):
+            raise InvalidParameterError(
+                f"x0 state has {z.size} blocks but the model has {model.n}"
+            )
+        return x0.copy(), None
+    gen, seq = _seed_and_rng(rng)
+    if x0 is None:
+        return State.from_x(gen.uniform(0.0, X0_AMPLITUDE, model.n)), seq
+    x = np.asarray(x0, dtype=np.float64)
+    if x.shape != (model.n,):
+        raise InvalidParameterError(
+            f"x0 must have one entry per block: expected shape ({model.n},), got {x.shape}"
+        )
+    bad = np.flatnonzero(~np.isfinite(x))
+    if bad.size:
+        raise InvalidParameterError(
+            f"x0 has non-finite entries at positions {bad[:5].tolist()}: {x[bad[:5]].tolist()}"
+        )
+    return State.from_x(x), None
+
+
+def _trace_indices(model, trace_nodes):
+    if trace_nodes is None:
+        return np.zeros(0, dtype=np.int64)
+    index = {node: i for i, node in enumerate(model.nodes)}
+    missing = [n for n in trace_nodes if n not in index]
+    if missing:
+        raise InvalidParameterError(f"trace_nodes not in the graph: {missing[:5]}")
+    return np.array([index[n] for n in trace_nodes], dtype=np.int64)
+
+
+_STATUS_MESSAGES = {
+    K.STATUS_NONFINITE: (
+        NumericalInstabilityError,
+        "a velocity became NaN at block {node!r} in event {event}; reduce dt (now {dt:g})",
+    ),
+    K.STATUS_RUNAWAY: (
+        NumericalInstabilityError,
+        "runaway velocity (> {vmax:g}) at block {node!r} in event {event}; the integration "
+        "is unstable: reduce dt (now {dt:g}) or check k, sigma and alpha",
+    ),
+    K.STATUS_EVENT_TOO_LONG: (
+        EventTooLongError,
+        "event {event} was still running after {maxd:g} time units; raise "
+        "max_event_duration if such long events are expected, else reduce dt (now {dt:g})",
+    ),
+}
+
+
+class _Run:
+    """Arrays of one run: topology, state, work space and output buffers."""
+
+    def __init__(self, model, state, dt, record_slips, trace_idx, max_trace_rows,
+                 profiles_rows, max_event_duration, max_velocity):
+        n = model.n
+        adj = model.adjacency
+        self.indptr = adj.indptr.astype(np.int64)
+        self.indices = adj.indices.astype(np.int64)
+        self.kval = adj.data.astype(np.float64)
+        self.diag = model.stiffness.astype(np.float64)
+        self.oms = 1.0 - model.sigma_values
+        self.cfr = 2.0 * model.alpha_values / self.oms
+        self.z = np.array(state.z, dtype=np.float64)
+        self.scal = np.array([state.offset, state.w], dtype=np.float64)
+        self.keys = np.empty(n, dtype=np.float64)
+        self.tree = empty_tree(n)
+        K.build_keys_and_tree(self.z, self.indptr, self.indices, self.kval, self.diag,
+                              self.keys, self.tree)
+        self.W = np.zeros((N_WORK, n), dtype=np.float64)
+        self.IW = np.zeros((N_IWORK, n), dtype=np.int64)
+        self.ctrl = np.array([dt, max_event_duration, max_velocity], dtype=np.float64)
+        cap = max(4 * n, 1 << 16) if record_slips else 0
+        self.slip_e = np.zeros(cap, dtype=np.int64)
+        self.slip_n = np.zeros(cap, dtype=np.int64)
+        self.slip_v = np.zeros(cap, dtype=np.float64)
+        self.trace_idx = trace_idx
+        rows = max_trace_rows if trace_idx.size else 0
+        self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
+        self.profiles = np.zeros((profiles_rows, n if profiles_rows else 0), dtype=np.float64)
+        self.cnt = np.zeros(6, dtype=np.int64)
+        self.out = np.zeros(6, dtype=np.float64)
+
+    def call(self, n_req, ev0, cat_f, cat_i, profiles):
+        self.cnt[0] = 0
+        return K.run_events(
+            n_req, ev0, self.z, self.scal, self.keys, self.tree, self.W, self.IW,
+            self.indptr, self.indices, self.kval, self.diag, self.oms, self.cfr, self.ctrl,
+            cat_f, cat_i, self.slip_e, self.slip_n, self.slip_v, self.trace_idx, self.trace,
+            profiles, self.cnt, self.out,
+        )
+
+    def take_slips(self, parts):
+        m = int(self.cnt[1])
+        if m:
+            parts.append((self.slip_e[:m].copy(), self.slip_n[:m].copy(), self.slip_v[:m].copy()))
+        self.cnt[1] = 0
+
+
+def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
+             record_slips=False, record_profiles=False, trace_nodes=None,
+             max_trace_rows=1_000_000, max_event_duration=1e4, max_velocity=1e3):
+    """Run ``n_events`` slip events of a Carlson-Langer model.
+
+    Parameters
+    ----------
+    model : CarlsonLanger
+    n_events : int
+        Number of events (> 0).
+    x0 : array_like, State, SimulationResult or None
+        Initial displacements (plate at u = 0), or a ``State`` / previous
+        result to continue from exactly (the plate position and the event
+        numbering carry over; the model may differ, e.g. a new alpha).  None
+        draws ``x0`` uniformly from [0, 0.01) with ``rng``.
+    rng : None, int, SeedSequence or Generator
+        Randomness for the initial state (SPEC 7); its SeedSequence entropy is
+        recorded in ``metadata``.
+    dt : float, optional
+        RK4 step inside events; default :func:`default_dt`.
+    progress : bool or None
+        Show a progress bar (None: only on a terminal).
+    record_slips : bool
+        Keep per-block slips of every event (``result.slips``).
+    record_profiles : bool
+        Keep the displacement profile after every event (small graphs only:
+        ``n_events * n_blocks`` is limited to 2e7).
+    trace_nodes : sequence of graph nodes, optional
+        Record ``x(t)``, ``v(t)`` of these blocks at every integration step
+        inside events (``result.traces``), at most ``max_trace_rows`` steps.
+    max_event_duration, max_velocity : float
+        Safety limits: a longer event or a faster block stops the run with an
+        error that says what to change.
+
+    Returns
+    -------
+    SimulationResult
+
+    Examples
+    --------
+    >>> import faultnet
+    >>> one = faultnet.CarlsonLanger(faultnet.graphs.chain(1), sigma=0.01, alpha=2.0)
+    >>> res = faultnet.simulate(one, n_events=3, x0=[0.0], progress=False)
+    >>> [round(s, 3) for s in res.events["S"]]
+    [1.275, 1.275, 1.275]
+    >>> more = faultnet.simulate(one, n_events=2, x0=res.state, progress=False)
+    >>> more.events["event"].tolist()
+    [3, 4]
+    """
+    if not isinstance(model, CarlsonLanger):
+        raise InvalidParameterError(f"model must be a CarlsonLanger; got {type(model).__name__}")
+    n_events = _check_count(n_events)
+    dt = _check_dt(model, dt)
+    for name, val in (("max_event_duration", max_event_duration), ("max_velocity", max_velocity)):
+        if not (math.isfinite(float(val)) and float(val) > 0):
+            raise InvalidParameterError(f"{name} must be finite and > 0; got {val!r}")
+    state, seq = _initial_state(model, x0, rng)
+    trace_idx = _trace_indices(model, trace_nodes)
+    if record_profiles and n_events * model.n > _MAX_PROFILE_VALUES:
+        raise InvalidParameterError(
+            f"record_profiles would store {n_events} x {model.n} values (limit "
+            f"{_MAX_PROFILE_VALUES:.0e}); run fewer events or record slips instead"
+        )
+    run = _Run(model, state, dt, record_slips, trace_idx, int(max_trace_rows),
+               n_events if record_profiles else 0, float(max_event_duration), float(max_velocity))
+    cat_f = np.zeros((n_events, 3), dtype=np.float64)
+    cat_i = np.zeros((n_events, 3), dtype=np.int64)
+    slip_parts = []
+    ev0 = state.n_events
+    done = 0
+    steps = block_steps = 0
+    chunk = 256
+    t0 = time.perf_counter()
+    with tqdm(total=n_events, unit="ev", disable=(None if progress is None else not progress),
+              leave=False, desc="faultnet") as bar:
+        while done < n_events:
+            n_req = min(chunk, n_events - done)
+            tic = time.perf_counter()
+            prof = run.profiles[done:] if record_profiles else run.profiles
+            status = run.call(n_req, ev0 + done, cat_f[done:], cat_i[done:], prof)
+            got = int(run.cnt[0])
+            done += got
+            steps += int(run.cnt[3])
+            block_steps += int(run.cnt[4])
+            run.cnt[3] = run.cnt[4] = 0
+            if status == K.STATUS_SLIPS_FULL:
+                run.take_slips(slip_parts)
+            elif status != K.STATUS_OK:
+                _raise(status, run, model, ev0 + done, dt)
+            bar.update(got)
+            bar.set_postfix(t=f"{run.scal[0] + run.scal[1]:.4g}", refresh=False)
+            elapsed = time.perf_counter() - tic
+            if elapsed < 0.1:
+                chunk = min(chunk * 2, 1 << 20)
+            elif elapsed > 0.5:
+                chunk = max(chunk // 2, 1)
+    wall = time.perf_counter() - t0
+    run.take_slips(slip_parts)
+    final = State(run.z, float(run.scal[0]), float(run.scal[1]), ev0 + n_events)
+    return _wrap(model, run, final, dt, ev0, cat_f, cat_i, slip_parts, record_slips,
+                 record_profiles, seq, wall, steps, block_steps, x0)
+
+
+def _raise(status, run, model, event, dt):
+    cls, template = _STATUS_MESSAGES[status]
+    bad = int(run.out[4]) if status == K.STATUS_EVENT_TOO_LONG else None
+    node = model.nodes[bad] if bad is not None else "?"
+    raise cls(template.format(node=node, event=event, dt=dt, vmax=run.ctrl[2], maxd=run.ctrl[1]))
+
+
+def _wrap(model, run, final, dt, ev0, cat_f, cat_i, slip_parts, record_slips, record_profiles,
+          seq, wall, steps, block_steps, x0):
+    from faultnet import __version__
+
+    events = events_frame(ev0, cat_f, cat_i, model.nodes)
+    slips = None
+    if record_slips:
+        cols = [np.concatenate(c) if slip_parts else np.zeros(0) for c in zip(*slip_parts)] \
+            if slip_parts else [np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)]
+        slips = slips_frame(cols[0], cols[1], cols[2], model.nodes)
+    traces = None
+    if run.trace_idx.size:
+        traces = traces_frame(run.trace[: int(run.cnt[2])], run.trace_idx, model.nodes)
+        traces.attrs["truncated"] = bool(run.cnt[5])
+    md = dict(model.params)
+    md.update(
+        dt=dt,
+        faultnet_version=__version__,
+        first_event=ev0,
+        n_events=len(events),
+        seed_entropy=None if seq is None else seq.entropy,
+        seed_spawn_key=None if seq is None else tuple(seq.spawn_key),
+        initial_state="random U[0, 0.01)" if x0 is None else "given",
+        wall_time_s=wall,
+        n_steps=steps,
+        block_steps=block_steps,
+    )
+    return SimulationResult(
+        events=events, state=final, model=model, dt=dt, metadata=md, slips=slips,
+        profiles=run.profiles if record_profiles else None, traces=traces,
+    )
+
+
+def slip_event(model, x, u=0.0, dt=None, **kwargs):
+    """Run exactly one slip event from displacements ``x`` (or a ``State``).
+
+    The plate is loaded until the first block fails, the event runs to its
+    end, and the state after it is returned with the event's catalog row.
+    This is the building block of return maps (paper, Figs. 2c and 4c).
+
+    Returns
+    -------
+    state : State
+    row : pandas.Series
+        The event's row of ``events`` (t, duration, n_blocks, S, M, hypocenter).
+
+    Examples
+    --------
+    >>> import faultnet
+    >>> two = faultnet.CarlsonLanger(faultnet.graphs.chain(2), k=16, sigma=0.01, alpha=2.0)
+    >>> state, row = faultnet.slip_event(two, [0.0, 0.01])
+    >>> int(row["n_blocks"]), int(row["hypocenter"])
+    (1, 0)
+    """
+    if not isinstance(x, State):
+        x = np.asarray(x, dtype=np.float64)
+        if x.shape == (model.n,) and np.all(np.isfinite(x)):
+            x = State.from_x(x, u)
+    res = simulate(model, 1, x0=x, dt=dt, progress=False, **kwargs)
+    return res.state, res.events.iloc[0]
