@@ -1,0 +1,6 @@
+"""Shared fixtures: the slow reference oracle lives in tests/reference.py."""
+
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(__file__))
