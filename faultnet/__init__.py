@@ -12,7 +12,7 @@ The pipeline reads as the module list: ``graphs`` -> ``model`` ->
 
 from importlib.metadata import PackageNotFoundError, version
 
-from faultnet import graphs
+from faultnet import dynamics, graphs, stats
 from faultnet.catalog import SimulationResult
 from faultnet.exceptions import (
     EventTooLongError,
@@ -23,6 +23,7 @@ from faultnet.exceptions import (
 )
 from faultnet.model import CarlsonLanger
 from faultnet.simulate import default_dt, simulate, slip_event
+from faultnet.stats import BFit, fit_b_lsq, fit_b_mle, irregularity, magnitude_distribution
 from faultnet.state import State
 
 try:
@@ -31,6 +32,7 @@ except PackageNotFoundError:  # running from a source tree
     __version__ = "0+unknown"
 
 __all__ = [
+    "BFit",
     "CarlsonLanger",
     "EventTooLongError",
     "FaultnetError",
@@ -40,7 +42,13 @@ __all__ = [
     "SimulationResult",
     "State",
     "default_dt",
+    "dynamics",
+    "fit_b_lsq",
+    "fit_b_mle",
     "graphs",
+    "irregularity",
+    "magnitude_distribution",
     "simulate",
     "slip_event",
+    "stats",
 ]

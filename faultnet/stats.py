@@ -41,6 +41,8 @@ import numpy as np
 import pandas as pd
 import scipy.sparse as sp
 
+from faultnet.model import CarlsonLanger
+
 __all__ = ["BFit", "fit_b_lsq", "fit_b_mle", "irregularity", "magnitude_distribution"]
 
 _DEFAULT_BINS = 50
@@ -161,8 +163,12 @@ def fit_b_lsq(M, m_min, m_max, bins=20, weighted=False):
     The magnitudes inside the window are binned (``bins`` equal bins spanning
     the window, or explicit edges), empty bins are ignored, and a straight line
     ``ln P = a - b M`` is fitted to the bin centres.  With equal bins the
-    centring does not bias the slope of an exponential.  ``b`` is in
-    natural-log units (see the module docstring for other conventions).
+    centring does not bias the slope of an exponential.
+
+    ``b`` is the paper's exponent: ``P(M) ~ exp(-b M)`` with ``M = ln S``, so
+    ``N(>= S) ~ S^-b`` and ``P(S) ~ S^-(1+b)``.  The same number is the b of
+    log10 slip magnitudes; ``b_GR = 1.5 b`` for moment magnitudes ``Mw``
+    (module docstring).
 
     Parameters
     ----------
@@ -249,6 +255,10 @@ def fit_b_mle(M, m_min=None, unbiased=False, bins=_DEFAULT_BINS):
     below ``b_err`` once ``n >> 1``).  Magnitudes are continuous here, so no
     Utsu binning correction is applied.
 
+    ``b`` is in the paper's units, ``P(M) ~ exp(-b M)`` with ``M = ln S``
+    (``N(>= S) ~ S^-b``); it equals the b of log10 slip magnitudes, and
+    ``b_GR = 1.5 b`` for moment magnitudes ``Mw`` (module docstring).
+
     Parameters
     ----------
     M : array_like or pandas.DataFrame
@@ -313,7 +323,7 @@ def fit_b_mle(M, m_min=None, unbiased=False, bins=_DEFAULT_BINS):
 
 def _edges(graph_or_model, n):
     """Edge endpoint index arrays (i < j) in the node order of the model/graph."""
-    if hasattr(graph_or_model, "adjacency") and hasattr(graph_or_model, "nodes"):
+    if isinstance(graph_or_model, CarlsonLanger):
         adj = graph_or_model.adjacency
     elif isinstance(graph_or_model, nx.Graph):
         adj = nx.to_scipy_sparse_array(graph_or_model, nodelist=list(graph_or_model.nodes))
