@@ -21,7 +21,7 @@ import math
 import numba as nb
 
 from faultnet._kernels.integrate import (
-    A, ACT, ACTIVE, AN, APOS, D, DN, F0, FLAG, FRONTIER, P, STUCK, TOUCH, UNTOUCHED, V, VN,
+    A, ACT, ACTIVE, AN, APOS, D, DN, F0, FLAG, FRONTIER, P, P2, STUCK, TOUCH, UNTOUCHED, V, VN,
     accel, force, hermite_dip, hermite_fall, hermite_root, rk4_step,
 )
 from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
@@ -66,7 +66,7 @@ def _activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms,
         nb_ = indices[p]
         if IW[FLAG, nb_] == UNTOUCHED:
             ntouch = _touch(nb_, w, keys, W, IW, ntouch)
-    W[A, j] = accel(j, W[P], W[V], W, indptr, indices, kval, diag, oms, cfr)
+    W[A, j] = accel(j, P, V, W, indptr, indices, kval, diag, oms, cfr)
     return nact + 1, ntouch
 
 
@@ -92,7 +92,7 @@ def _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, c
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
             if IW[FLAG, j] != ACTIVE:
-                if force(j, W[D], W, indptr, indices, kval, diag) >= 1.0:
+                if force(j, D, W, indptr, indices, kval, diag) >= 1.0:
                     nact, ntouch = _activate(
                         j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
                     )
@@ -146,10 +146,10 @@ def _earliest_crossing(h, nact, W, IW, indptr, indices, kval, diag, vmax):
             j = indices[p]
             if IW[FLAG, j] == ACTIVE:
                 continue
-            f1 = force(j, W[P], W, indptr, indices, kval, diag)
+            f1 = force(j, P, W, indptr, indices, kval, diag)
             if f1 < 1.0:
                 continue
-            f0 = force(j, W[D], W, indptr, indices, kval, diag)
+            f0 = force(j, D, W, indptr, indices, kval, diag)
             if f0 >= 1.0:
                 th = 0.0
             else:
@@ -178,6 +178,7 @@ def _restore_positions(nact, W, IW):
     for q in range(nact):
         i = IW[ACT, q]
         W[P, i] = W[D, i]
+        W[P2, i] = W[D, i]
 
 
 @nb.njit(cache=True, nogil=True)
@@ -223,6 +224,7 @@ def _finish_event(ntouch, ev, z, keys, tree, W, IW, indptr, indices, kval, diag,
         tree_update(j, keys, tree)
         W[D, j] = 0.0
         W[P, j] = 0.0
+        W[P2, j] = 0.0
         IW[FLAG, j] = UNTOUCHED
     return total, nblk
 
@@ -254,7 +256,7 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
     t = 0.0
     nsteps = 0
     while nact > 0:
-        rk4_step(dt, nact, IW[ACT], W, indptr, indices, kval, diag, oms, cfr)
+        rk4_step(dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
         th, who, kind, status = _earliest_crossing(dt, nact, W, IW, indptr, indices, kval,
                                                    diag, vmax)
         if status != STATUS_OK:
@@ -266,7 +268,7 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
             t += dt
         else:
             if th > 0.0:
-                rk4_step(th * dt, nact, IW[ACT], W, indptr, indices, kval, diag, oms, cfr)
+                rk4_step(th * dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
                 _commit(nact, W, IW)
                 t += th * dt
                 nsteps += 1

@@ -6,7 +6,8 @@ plate position.  Work arrays live in the rows of ``W`` (float) and ``IW``
 (int), each of length N; the row names are the constants below.
 
 Invariants kept by every kernel:
-- ``W[P, j] == W[D, j]`` for every block that is not active (neighbours read P);
+- ``W[P, j] == W[P2, j] == W[D, j]`` for every block that is not active
+  (neighbours read P and P2, the two stage-position buffers);
 - ``W[V, j] == W[VN, j] == 0`` for every block that is not active;
 - every neighbour of an active block is *touched* (``IW[FLAG] != UNTOUCHED``)
   and has its starting force in ``W[F0]``.
@@ -15,14 +16,14 @@ Invariants kept by every kernel:
 import numba as nb
 
 __all__ = [
-    "A", "AN", "D", "DN", "F0", "P", "SA", "SV", "TMP", "V", "VN", "VS", "N_WORK",
+    "A", "AN", "D", "DN", "F0", "P", "P2", "SA", "SV", "V", "VN", "VS", "N_WORK",
     "FLAG", "ACT", "TOUCH", "APOS", "N_IWORK",
     "UNTOUCHED", "ACTIVE", "STUCK", "FRONTIER",
     "accel", "force", "rk4_step", "hermite", "hermite_dip", "hermite_fall", "hermite_root",
 ]
 
 # float work rows
-D, P, V, A, DN, VN, AN, SV, SA, VS, TMP, F0 = range(12)
+D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = range(12)
 N_WORK = 12
 # int work rows
 FLAG, ACT, TOUCH, APOS = range(4)
@@ -33,72 +34,72 @@ UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
 
 @nb.njit(cache=True, nogil=True, inline="always")
 def force(i, pos, W, indptr, indices, kval, diag):
-    """Force on touched block ``i`` for displacements ``pos`` (a row of W)."""
+    """Force on touched block ``i`` for the displacements in row ``pos`` of W.
+
+    Rows are passed by index, never as views: creating a view costs an atomic
+    reference-count update, which dominated the cost of a step.
+    """
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
-        s += kval[p] * pos[indices[p]]
-    return W[F0, i] + s - diag[i] * pos[i]
+        s += kval[p] * W[pos, indices[p]]
+    return W[F0, i] + s - diag[i] * W[pos, i]
 
 
 @nb.njit(cache=True, nogil=True, inline="always")
 def accel(i, pos, vel, W, indptr, indices, kval, diag, oms, cfr):
-    """Acceleration of slipping block ``i``: force minus kinetic friction.
+    """Acceleration of slipping block ``i`` (rows ``pos``, ``vel`` of W).
 
     phi(v) = (1 - sigma) / (1 + 2 alpha v / (1 - sigma)); RK stages may probe
     small negative v, where the same analytic formula is used with its
     denominator floored at 1/2 (never reached with sane steps).
     """
-    den = 1.0 + cfr[i] * vel[i]
+    den = 1.0 + cfr[i] * W[vel, i]
     if den < 0.5:
         den = 0.5
     return force(i, pos, W, indptr, indices, kval, diag) - oms[i] / den
 
 
 @nb.njit(cache=True, nogil=True)
-def rk4_step(h, nact, act, W, indptr, indices, kval, diag, oms, cfr):
+def rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     """Classical RK4 step of length ``h`` from (D, V, A) to (DN, VN, AN).
 
-    Leaves ``P == DN`` on active blocks; D, V, A are untouched so the step can
-    be redone with a shorter ``h``.
+    Stage positions ping-pong between the rows P and P2, so each stage is a
+    single pass over the active blocks (a block's own stage velocity is only
+    read by itself).  Leaves ``P == P2 == DN`` on active blocks; D, V, A are
+    untouched so the step can be redone with a shorter ``h``.
     """
     hh = 0.5 * h
-    Pr, Vs, Tm = W[P], W[VS], W[TMP]
-    for q in range(nact):
-        i = act[q]
-        W[SV, i] = W[V, i]
-        W[SA, i] = W[A, i]
-        Pr[i] = W[D, i] + hh * W[V, i]
-        Vs[i] = W[V, i] + hh * W[A, i]
-    for q in range(nact):
-        i = act[q]
-        Tm[i] = accel(i, Pr, Vs, W, indptr, indices, kval, diag, oms, cfr)
-    for q in range(nact):
-        i = act[q]
-        W[SV, i] += 2.0 * Vs[i]
-        W[SA, i] += 2.0 * Tm[i]
-        Pr[i] = W[D, i] + hh * Vs[i]
-        Vs[i] = W[V, i] + hh * Tm[i]
-    for q in range(nact):
-        i = act[q]
-        Tm[i] = accel(i, Pr, Vs, W, indptr, indices, kval, diag, oms, cfr)
-    for q in range(nact):
-        i = act[q]
-        W[SV, i] += 2.0 * Vs[i]
-        W[SA, i] += 2.0 * Tm[i]
-        Pr[i] = W[D, i] + h * Vs[i]
-        Vs[i] = W[V, i] + h * Tm[i]
-    for q in range(nact):
-        i = act[q]
-        Tm[i] = accel(i, Pr, Vs, W, indptr, indices, kval, diag, oms, cfr)
     h6 = h / 6.0
     for q in range(nact):
-        i = act[q]
-        W[DN, i] = W[D, i] + h6 * (W[SV, i] + Vs[i])
-        W[VN, i] = W[V, i] + h6 * (W[SA, i] + Tm[i])
-        Pr[i] = W[DN, i]
+        i = IW[ACT, q]
+        W[SV, i] = W[V, i]
+        W[SA, i] = W[A, i]
+        W[P, i] = W[D, i] + hh * W[V, i]
+        W[VS, i] = W[V, i] + hh * W[A, i]
     for q in range(nact):
-        i = act[q]
-        W[AN, i] = accel(i, Pr, W[VN], W, indptr, indices, kval, diag, oms, cfr)
+        i = IW[ACT, q]
+        k2 = accel(i, P, VS, W, indptr, indices, kval, diag, oms, cfr)
+        W[SV, i] += 2.0 * W[VS, i]
+        W[SA, i] += 2.0 * k2
+        W[P2, i] = W[D, i] + hh * W[VS, i]
+        W[VS, i] = W[V, i] + hh * k2
+    for q in range(nact):
+        i = IW[ACT, q]
+        k3 = accel(i, P2, VS, W, indptr, indices, kval, diag, oms, cfr)
+        W[SV, i] += 2.0 * W[VS, i]
+        W[SA, i] += 2.0 * k3
+        W[P, i] = W[D, i] + h * W[VS, i]
+        W[VS, i] = W[V, i] + h * k3
+    for q in range(nact):
+        i = IW[ACT, q]
+        k4 = accel(i, P, VS, W, indptr, indices, kval, diag, oms, cfr)
+        W[DN, i] = W[D, i] + h6 * (W[SV, i] + W[VS, i])
+        W[VN, i] = W[V, i] + h6 * (W[SA, i] + k4)
+        W[P2, i] = W[DN, i]
+    for q in range(nact):
+        i = IW[ACT, q]
+        W[P, i] = W[DN, i]
+        W[AN, i] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)
 
 
 @nb.njit(cache=True, nogil=True, inline="always")

@@ -1,0 +1,145 @@
+"""faultnet benchmark suite: throughput, work and memory per workload.
+
+Run by hand (never a timed unit test)::
+
+    python benchmarks/run.py            # all workloads, default lengths
+    python benchmarks/run.py --quick    # shorter runs, same table
+    python benchmarks/run.py W1 W4      # a subset
+
+Each workload runs in its own subprocess so peak memory (ru_maxrss) is its
+own.  Throughput is measured after a transient, with the kernel already
+compiled; compile times are measured separately (``--compile``) with a cold,
+empty Numba cache directory and with the warm cache.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+
+K, SIGMA = 16.0, 0.01
+
+WORKLOADS = {
+    "W1": ("ring N=2000", 1.0),
+    "W2": ("ring N=2000", 2.0),
+    "W3": ("ring N=2000", 0.25),
+    "W4": ("periodic square 150x150", 1.0),
+    "W5": ("largest cluster, square 150x150, p=0.5927", 0.9),
+    "W6": ("critical cluster, triangular 150x150, p=0.5", 1.0),
+}
+
+
+def build_graph(wid, size=150):
+    from faultnet import graphs
+
+    if wid in ("W1", "W2", "W3"):
+        return graphs.ring(2000)
+    if wid == "W4":
+        return graphs.square_lattice(size, size, periodic=True)
+    if wid == "W5":
+        return graphs.site_percolation(graphs.square_lattice(size, size), 0.5927, rng=1)
+    if wid == "W6":
+        return graphs.site_percolation(graphs.triangular_lattice(size, size), 0.5, rng=1)
+    if wid.startswith("L"):
+        n = int(wid[1:])
+        return graphs.square_lattice(n, n, periodic=True)
+    raise SystemExit(f"unknown workload {wid!r}; choose from {sorted(WORKLOADS)}")
+
+
+def measure(wid, alpha, transient, events):
+    """Run in a child process: transient, then the timed run; print JSON."""
+    import faultnet
+
+    model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=alpha)
+    warm = faultnet.simulate(model, transient, rng=1, progress=False)
+    tic = time.perf_counter()
+    res = faultnet.simulate(model, events, x0=warm, progress=False)
+    wall = time.perf_counter() - tic
+    md = res.metadata
+    out = {
+        "id": wid,
+        "blocks": model.n,
+        "alpha": alpha,
+        "events": events,
+        "transient": transient,
+        "wall_s": wall,
+        "events_per_s": events / wall,
+        "block_steps_per_s": md["block_steps"] / wall,
+        "mean_blocks": float(res.events.n_blocks.mean()),
+        "steps_per_event": md["n_steps"] / events,
+        "dt": res.dt,
+        "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
+    }
+    print(json.dumps(out))
+
+
+def compile_times():
+    """Seconds for the first simulate call: cold (empty cache) and warm cache."""
+    code = (
+        "import time, faultnet; t=time.perf_counter();"
+        "m=faultnet.CarlsonLanger(faultnet.graphs.ring(10));"
+        "faultnet.simulate(m, 1, rng=1, progress=False);"
+        "print(time.perf_counter()-t)"
+    )
+    imp = "import time; t=time.perf_counter(); import faultnet; print(time.perf_counter()-t)"
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        cold = float(subprocess.check_output([sys.executable, "-c", code], env=env))
+        warm = float(subprocess.check_output([sys.executable, "-c", code], env=env))
+        import_s = float(subprocess.check_output([sys.executable, "-c", imp], env=env))
+    return cold, warm, import_s
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("ids", nargs="*", help="workloads (default: W1..W6)")
+    ap.add_argument("--quick", action="store_true", help="10x shorter runs")
+    ap.add_argument("--events", type=int, default=None, help="timed events per workload")
+    ap.add_argument("--compile", action="store_true", help="also measure JIT compile times")
+    ap.add_argument("--scaling", action="store_true", help="periodic square L=32..1024 at alpha=1")
+    ap.add_argument("--json", help="write the rows as JSON lines to this file")
+    ap.add_argument("--child", nargs=4, help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.child:
+        wid, alpha, transient, events = args.child
+        measure(wid, float(alpha), int(transient), int(events))
+        return
+    scale = 10 if args.quick else 1
+    jobs = [(w, WORKLOADS[w][1], WORKLOADS[w][0]) for w in (args.ids or sorted(WORKLOADS))]
+    if args.scaling:
+        jobs += [(f"L{n}", 1.0, f"periodic square {n}x{n}") for n in (32, 64, 128, 256, 512, 1024)]
+    rows = []
+    header = (f"{'id':5} {'workload':46} {'N':>8} {'alpha':>5} {'events/s':>10} "
+              f"{'block-steps/s':>14} {'blocks/ev':>9} {'steps/ev':>8} {'peak MiB':>8}")
+    print(header)
+    print("-" * len(header))
+    for wid, alpha, desc in jobs:
+        events = args.events or (200_000 if wid.startswith("W") else 20_000) // scale
+        transient = events // 2
+        out = subprocess.check_output(
+            [sys.executable, __file__, "--child", wid, str(alpha), str(transient), str(events)]
+        )
+        row = json.loads(out.decode().strip().splitlines()[-1])
+        row["workload"] = desc
+        rows.append(row)
+        print(f"{wid:5} {desc:46} {row['blocks']:>8} {alpha:>5} {row['events_per_s']:>10,.0f} "
+              f"{row['block_steps_per_s']:>14,.0f} {row['mean_blocks']:>9.2f} "
+              f"{row['steps_per_event']:>8.1f} {row['peak_rss_mib']:>8.0f}", flush=True)
+    if args.compile:
+        cold, warm, import_s = compile_times()
+        print(f"\nimport faultnet: {import_s:.2f} s; first simulate: {cold:.1f} s cold cache, "
+              f"{warm:.2f} s warm cache")
+    if args.json:
+        with open(args.json, "w") as fh:
+            for row in rows:
+                fh.write(json.dumps(row) + "\n")
+
+
+if __name__ == "__main__":
+    main()
