@@ -26,6 +26,30 @@ from faultnet.simulate import default_dt, simulate, slip_event
 from faultnet.stats import BFit, fit_b_lsq, fit_b_mle, irregularity, magnitude_distribution
 from faultnet.state import State
 
+# Parquet I/O, long runs and sweeps import pyarrow and friends: load on first use
+# so that ``import faultnet`` stays fast.
+_LAZY = {
+    "read_catalog": "faultnet.io",
+    "read_metadata": "faultnet.io",
+    "write_catalog": "faultnet.io",
+    "simulate_to_parquet": "faultnet.runner",
+    "build_model": "faultnet.specs",
+    "graph_hash": "faultnet.specs",
+    "summarize": "faultnet.sweep",
+    "sweep": "faultnet.sweep",
+}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'faultnet' has no attribute {name!r}")
+
+
 try:
     __version__ = version("faultnet")
 except PackageNotFoundError:  # running from a source tree
@@ -40,6 +64,14 @@ __all__ = [
     "NumericalInstabilityError",
     "SimulationError",
     "SimulationResult",
+    "build_model",
+    "graph_hash",
+    "read_catalog",
+    "read_metadata",
+    "simulate_to_parquet",
+    "summarize",
+    "sweep",
+    "write_catalog",
     "State",
     "default_dt",
     "dynamics",

@@ -19,7 +19,9 @@ def node_labels(nodes, idx):
     idx = np.asarray(idx, dtype=np.int64)
     if all(isinstance(n, (int, np.integer)) and not isinstance(n, bool) for n in nodes):
         return np.asarray(nodes, dtype=np.int64)[idx]
-    return np.asarray(nodes, dtype=object)[idx]
+    labels = np.empty(len(nodes), dtype=object)
+    labels[:] = list(nodes)  # element-wise: tuple labels stay tuples
+    return labels[idx]
 
 
 def events_frame(ev0, cat_f, cat_i, nodes):

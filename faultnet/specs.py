@@ -1,0 +1,445 @@
+"""Graph specifications: short strings (``ring:2000``) and graph files -> models.
+
+A *graph spec* names a graph in one token, as on the command line and in
+sweep files::
+
+    chain:N                      open chain of N blocks
+    ring:N                       periodic ring of N blocks (N >= 3)
+    square:RxC[:periodic]        square lattice, R rows x C columns (square:L = LxL)
+    triangular:RxC[:periodic]    triangular lattice
+    percolation:LATTICE:RxC[:periodic]:p=P[:largest|:all][:prune][:seed=S]
+                                 site-diluted square or triangular lattice; P is a
+                                 probability or ``pc`` (the lattice's threshold)
+    file:PATH, PATH.graphml, PATH.json
+                                 a custom asperity graph: GraphML or node-link JSON
+
+Graph files may carry the model parameters: a graph attribute ``k``,
+``sigma`` or ``alpha`` sets the default for the whole graph, an edge
+attribute ``k`` sets one spring and node attributes ``sigma`` / ``alpha`` set
+one block (see :class:`faultnet.CarlsonLanger`).  Parameters given
+explicitly (``--k`` / ``k=``) override the graph-level defaults, never the
+per-edge or per-node values.
+
+The percolation disorder is random.  Unless the spec fixes it with
+``seed=S``, it is drawn from the run's seed: from the SeedSequence
+``SeedSequence(entropy, spawn_key=(*spawn_key, 0))`` (:func:`graph_seed`),
+so one ``--seed`` reproduces both the graph and the run.
+
+>>> from faultnet.specs import build_graph, parse_graph_spec
+>>> parse_graph_spec("square:16x16:periodic").canonical
+'square:16x16:periodic'
+>>> G = build_graph("percolation:square:20x20:p=0.7", rng=1)
+>>> G.graph["p"]
+0.7
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import re
+from dataclasses import dataclass, field
+
+import networkx as nx
+import numpy as np
+
+from faultnet import graphs
+from faultnet.exceptions import InvalidParameterError
+
+__all__ = [
+    "DEFAULT_PARAMS",
+    "GRAPH_SPEC_FORMS",
+    "GraphSpec",
+    "GraphSpecError",
+    "build_graph",
+    "build_model",
+    "graph_hash",
+    "graph_seed",
+    "parse_graph_spec",
+    "read_graph_file",
+]
+
+#: model defaults used when neither the caller nor the graph file sets a value
+DEFAULT_PARAMS = {"k": 16.0, "sigma": 0.01, "alpha": 1.0}
+
+GRAPH_SPEC_FORMS = (
+    "chain:N                  e.g. chain:100",
+    "ring:N                   e.g. ring:2000",
+    "square:RxC[:periodic]    e.g. square:150x150:periodic (square:L means LxL)",
+    "triangular:RxC[:periodic]  e.g. triangular:150x150",
+    "percolation:LATTICE:RxC[:periodic]:p=P[:largest|:all][:prune][:seed=S]"
+    "  e.g. percolation:square:150x150:p=0.5927:largest (p=pc: the threshold)",
+    "file:PATH or PATH.graphml / PATH.json  a GraphML or node-link JSON graph file",
+)
+
+_GRAPH_FILE_SUFFIXES = (".graphml", ".json")
+
+
+class GraphSpecError(InvalidParameterError):
+    """A graph spec could not be parsed or built; the message lists the valid forms."""
+
+
+def _spec_error(spec, why):
+    forms = "\n  ".join(GRAPH_SPEC_FORMS)
+    return GraphSpecError(f"invalid graph spec {spec!r}: {why}\nvalid forms:\n  {forms}")
+
+
+@dataclass(frozen=True)
+class GraphSpec:
+    """A parsed graph spec.
+
+    Attributes
+    ----------
+    kind : str
+        ``chain``, ``ring``, ``square``, ``triangular``, ``percolation`` or ``file``.
+    size : tuple of int
+        ``(n,)`` for chains and rings, ``(rows, cols)`` for lattices, ``()`` for files.
+    periodic : bool
+    lattice : str or None
+        ``square`` / ``triangular`` for percolation.
+    p : float or None
+        Occupation probability for percolation.
+    keep : str
+        ``largest`` or ``all`` (percolation).
+    prune : bool
+        Drop isolated occupied sites (percolation).
+    seed : int or None
+        Fixed disorder seed (percolation); None derives it from the run seed.
+    path : str or None
+        Graph file (``kind == "file"``).
+    """
+
+    kind: str
+    size: tuple = ()
+    periodic: bool = False
+    lattice: str | None = None
+    p: float | None = None
+    keep: str = "largest"
+    prune: bool = False
+    seed: int | None = None
+    path: str | None = None
+    text: str = field(default="", compare=False)
+
+    @property
+    def random(self) -> bool:
+        """True when building the graph draws random numbers."""
+        return self.kind == "percolation" and self.seed is None
+
+    @property
+    def canonical(self) -> str:
+        """The spec in normal form (what is recorded in catalog metadata)."""
+        if self.kind in ("chain", "ring"):
+            return f"{self.kind}:{self.size[0]}"
+        if self.kind == "file":
+            return f"file:{self.path}"
+        dims = f"{self.size[0]}x{self.size[1]}" + (":periodic" if self.periodic else "")
+        if self.kind in ("square", "triangular"):
+            return f"{self.kind}:{dims}"
+        out = f"percolation:{self.lattice}:{dims}:p={self.p!r}:{self.keep}"
+        if self.prune:
+            out += ":prune"
+        if self.seed is not None:
+            out += f":seed={self.seed}"
+        return out
+
+
+def _int_token(spec, token, what):
+    if not re.fullmatch(r"\d+", token):
+        raise _spec_error(spec, f"{what} must be a positive integer, got {token!r}")
+    return int(token)
+
+
+def _dims(spec, token):
+    m = re.fullmatch(r"(\d+)(?:x(\d+))?", token)
+    if not m:
+        raise _spec_error(
+            spec, f"lattice size must look like ROWSxCOLS (e.g. 150x150), got {token!r}"
+        )
+    rows = int(m.group(1))
+    cols = int(m.group(2)) if m.group(2) else rows
+    return rows, cols
+
+
+def _looks_like_file(spec):
+    return spec.startswith("file:") or spec.lower().endswith(_GRAPH_FILE_SUFFIXES)
+
+
+def parse_graph_spec(spec) -> GraphSpec:
+    """Parse a graph spec string (see the module docstring for the forms).
+
+    Raises
+    ------
+    GraphSpecError
+        Naming the problem and listing the valid forms.
+
+    >>> parse_graph_spec("percolation:square:64x64:p=pc").p
+    0.592746
+    >>> parse_graph_spec("hexagonal:10")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    faultnet.specs.GraphSpecError: invalid graph spec 'hexagonal:10': unknown graph kind...
+    """
+    if isinstance(spec, GraphSpec):
+        return spec
+    if not isinstance(spec, str) or not spec.strip():
+        raise _spec_error(spec, "a graph spec must be a non-empty string")
+    spec = spec.strip()
+    if _looks_like_file(spec):
+        path = spec[5:] if spec.startswith("file:") else spec
+        if not path:
+            raise _spec_error(spec, "file: needs a path")
+        return GraphSpec(kind="file", path=path, text=spec)
+    parts = spec.split(":")
+    kind = parts[0].lower()
+    args = parts[1:]
+    if kind in ("chain", "ring"):
+        if len(args) != 1:
+            raise _spec_error(spec, f"{kind} takes exactly one size, e.g. {kind}:200")
+        return GraphSpec(kind=kind, size=(_int_token(spec, args[0], "the size"),), text=spec)
+    if kind in ("square", "triangular"):
+        if not args or len(args) > 2:
+            raise _spec_error(spec, f"{kind} takes ROWSxCOLS and optionally :periodic")
+        periodic = False
+        if len(args) == 2:
+            if args[1].lower() not in ("periodic", "open"):
+                raise _spec_error(spec, f"unknown option {args[1]!r}; allowed: periodic, open")
+            periodic = args[1].lower() == "periodic"
+        return GraphSpec(kind=kind, size=_dims(spec, args[0]), periodic=periodic, text=spec)
+    if kind == "percolation":
+        return _parse_percolation(spec, args)
+    if os.path.sep in spec or os.path.exists(spec):
+        raise _spec_error(
+            spec, "graph files must end in .graphml or .json (or be given as file:PATH)"
+        )
+    raise _spec_error(spec, f"unknown graph kind {kind!r}")
+
+
+def _parse_percolation(spec, args):
+    if len(args) < 2:
+        raise _spec_error(spec, "percolation needs a lattice, a size and p=P")
+    lattice = args[0].lower()
+    if lattice not in ("square", "triangular"):
+        raise _spec_error(
+            spec, f"percolation lattice must be square or triangular, got {args[0]!r}"
+        )
+    size = _dims(spec, args[1])
+    periodic, keep, prune, p, seed = False, "largest", False, None, None
+    for token in args[2:]:
+        low = token.lower()
+        if low in ("periodic", "open"):
+            periodic = low == "periodic"
+        elif low in ("largest", "all"):
+            keep = low
+        elif low == "prune":
+            prune = True
+        elif low.startswith("p="):
+            value = low[2:]
+            if value == "pc":
+                p = graphs.percolation_threshold(lattice)
+            else:
+                try:
+                    p = float(value)
+                except ValueError:
+                    raise _spec_error(
+                        spec, f"p must be a number or pc, got {token[2:]!r}"
+                    ) from None
+                if not 0.0 <= p <= 1.0:
+                    raise _spec_error(spec, f"p must lie in [0, 1], got {p!r}")
+        elif low.startswith("seed="):
+            seed = _int_token(spec, token[5:], "seed")
+        else:
+            raise _spec_error(
+                spec,
+                f"unknown percolation option {token!r}; allowed: periodic, p=P, largest, all, "
+                "prune, seed=S",
+            )
+    if p is None:
+        raise _spec_error(spec, "percolation needs p=P (a probability, or p=pc)")
+    return GraphSpec(
+        kind="percolation",
+        size=size,
+        periodic=periodic,
+        lattice=lattice,
+        p=p,
+        keep=keep,
+        prune=prune,
+        seed=seed,
+        text=spec,
+    )
+
+
+def graph_seed(seq):
+    """SeedSequence for a random graph, derived from a run's SeedSequence ``seq``.
+
+    It is the child ``SeedSequence(seq.entropy, spawn_key=(*seq.spawn_key, 0))``:
+    independent of the stream that draws the run's initial state.
+    """
+    return np.random.SeedSequence(seq.entropy, spawn_key=(*seq.spawn_key, 0))
+
+
+def _lattice(kind, rows, cols, periodic):
+    build = graphs.square_lattice if kind == "square" else graphs.triangular_lattice
+    return build(rows, cols, periodic=periodic)
+
+
+def build_graph(spec, rng=None) -> nx.Graph:
+    """Build the graph a spec names.
+
+    Parameters
+    ----------
+    spec : str or GraphSpec
+    rng : None, int or SeedSequence
+        Seed of the run; only percolation graphs without ``seed=`` use it
+        (through :func:`graph_seed`).  None draws fresh entropy.
+
+    Returns
+    -------
+    networkx.Graph
+        ``G.graph["spec"]`` holds the canonical spec.
+    """
+    gs = parse_graph_spec(spec)
+    try:
+        if gs.kind == "chain":
+            G = graphs.chain(gs.size[0])
+        elif gs.kind == "ring":
+            G = graphs.ring(gs.size[0])
+        elif gs.kind in ("square", "triangular"):
+            G = _lattice(gs.kind, *gs.size, gs.periodic)
+        elif gs.kind == "percolation":
+            parent = _lattice(gs.lattice, *gs.size, gs.periodic)
+            if gs.seed is not None:
+                seq = np.random.SeedSequence(gs.seed)
+            else:
+                seq = graph_seed(
+                    rng if isinstance(rng, np.random.SeedSequence) else np.random.SeedSequence(rng)
+                )
+            G = graphs.site_percolation(
+                parent, gs.p, rng=seq, keep=gs.keep, prune_isolated=gs.prune
+            )
+            G.graph["seed_entropy"] = seq.entropy
+            G.graph["seed_spawn_key"] = list(seq.spawn_key)
+        else:
+            G = read_graph_file(gs.path)
+    except (ValueError, TypeError) as exc:
+        if isinstance(exc, GraphSpecError):
+            raise
+        raise GraphSpecError(f"graph spec {gs.text or gs.canonical!r}: {exc}") from exc
+    G.graph["spec"] = gs.canonical
+    return G
+
+
+def read_graph_file(path) -> nx.Graph:
+    """Read a GraphML or node-link JSON graph (``.graphml`` / ``.json``).
+
+    GraphML node ids that are all integers become ``int`` labels.  Node-link
+    JSON may use ``"edges"`` or the older ``"links"`` key; a missing
+    ``"multigraph"`` key means a simple graph.  Graph attributes ``k``,
+    ``sigma``, ``alpha`` are kept in ``G.graph`` (see :func:`build_model`).
+    """
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise GraphSpecError(f"graph file {path!r} does not exist")
+    low = path.lower()
+    try:
+        if low.endswith(".json"):
+            with open(path, encoding="utf-8") as fh:
+                data = json.load(fh)
+            if not isinstance(data, dict) or "nodes" not in data:
+                raise GraphSpecError(
+                    f"graph file {path!r}: expected node-link JSON (an object with 'nodes' "
+                    "and 'edges' lists, as written by networkx.node_link_data)"
+                )
+            edges = "links" if "links" in data and "edges" not in data else "edges"
+            data.setdefault(edges, [])
+            try:
+                G = nx.node_link_graph(data, directed=False, multigraph=False, edges=edges)
+            except TypeError:  # networkx < 3.4 names the keyword "link"
+                G = nx.node_link_graph(data, directed=False, multigraph=False, link=edges)
+        elif low.endswith(".graphml"):
+            try:
+                G = nx.read_graphml(path, node_type=int)
+            except (ValueError, TypeError):
+                G = nx.read_graphml(path)
+        else:
+            raise GraphSpecError(f"graph file {path!r}: the name must end in .graphml or .json")
+    except GraphSpecError:
+        raise
+    except Exception as exc:  # parser errors of json / lxml / networkx
+        raise GraphSpecError(f"cannot read graph file {path!r}: {exc}") from exc
+    if G.is_directed() or G.is_multigraph():
+        raise GraphSpecError(
+            f"graph file {path!r} holds a {'directed' if G.is_directed() else 'multi'}graph; "
+            "springs are symmetric, so write an undirected simple graph"
+        )
+    G = nx.Graph(G)
+    G.graph.setdefault("name", f"file:{os.path.basename(path)}")
+    return G
+
+
+def _graph_param(G, name):
+    if name not in G.graph:
+        return None
+    value = G.graph[name]
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(
+            f"graph attribute {name!r} must be a number; got {value!r}"
+        ) from None
+    return value
+
+
+def build_model(spec, *, k=None, sigma=None, alpha=None, rng=None):
+    """Build a :class:`faultnet.CarlsonLanger` model from a graph spec.
+
+    ``k``, ``sigma``, ``alpha``: explicit values win, then graph-level
+    attributes of a graph file, then :data:`DEFAULT_PARAMS`.
+
+    >>> build_model("ring:10", alpha=2.0).alpha
+    2.0
+    """
+    from faultnet.model import CarlsonLanger
+
+    G = spec if isinstance(spec, nx.Graph) else build_graph(spec, rng=rng)
+    params = {}
+    for name, given in (("k", k), ("sigma", sigma), ("alpha", alpha)):
+        if given is None:
+            given = _graph_param(G, name)
+        params[name] = DEFAULT_PARAMS[name] if given is None else given
+    return CarlsonLanger(G, **params)
+
+
+def _label_key(node):
+    return f"{type(node).__name__}:{node!r}"
+
+
+def graph_hash(model) -> str:
+    """SHA-256 (hex) of a model's graph and parameters, in node order.
+
+    It covers the node labels, the edges with their spring constants and the
+    per-block sigma and alpha, so two models hash equal exactly when every run
+    on them is the same.
+
+    >>> import faultnet
+    >>> m = faultnet.CarlsonLanger(faultnet.graphs.ring(5))
+    >>> graph_hash(m) == graph_hash(faultnet.CarlsonLanger(faultnet.graphs.ring(5)))
+    True
+    >>> graph_hash(m) == graph_hash(m.with_params(alpha=2.0))
+    False
+    """
+    h = hashlib.sha256()
+    h.update(b"faultnet-graph-v1\0")
+    h.update(json.dumps([_label_key(n) for n in model.nodes]).encode())
+    adj = model.adjacency
+    for arr, dtype in (
+        (adj.indptr, "<i8"),
+        (adj.indices, "<i8"),
+        (adj.data, "<f8"),
+        (model.sigma_values, "<f8"),
+        (model.alpha_values, "<f8"),
+    ):
+        a = np.ascontiguousarray(np.asarray(arr, dtype=dtype))
+        h.update(str(a.size).encode() + b"\0")
+        h.update(a.tobytes())
+    return h.hexdigest()

@@ -1,0 +1,261 @@
+"""The `faultnet` command line, as a subprocess and in process through main()."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+import networkx as nx
+import pandas as pd
+import pytest
+
+import faultnet
+from faultnet import runner
+from faultnet.__main__ import main
+from faultnet.io import read_catalog, read_metadata
+from faultnet.specs import build_model, graph_hash, parse_graph_spec
+
+PY = [sys.executable, "-m", "faultnet"]
+
+
+def run_cli(*args, timeout=120):
+    return subprocess.run([*PY, *map(str, args)], capture_output=True, text=True, timeout=timeout)
+
+
+def test_simulate_and_info_subprocess(tmp_path):
+    out = tmp_path / "ring.parquet"
+    res = run_cli(
+        "simulate",
+        "ring:100",
+        "--alpha",
+        "2",
+        "--events",
+        "3e3",
+        "--seed",
+        "42",
+        "--chunk",
+        "1000",
+        "--transient",
+        "300",
+        "--out",
+        out,
+    )
+    assert res.returncode == 0, res.stderr
+    text = res.stdout
+    assert "3,000 events in" in text and "events/s" in text
+    assert "M = ln S in [" in text and "b (MLE)" in text and "b (LSQ)" in text
+    assert f"wrote {out}" in text
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(100), alpha=2.0)
+    ref = faultnet.simulate(model, 3000, rng=42, progress=False)
+    cat = read_catalog(out)
+    pd.testing.assert_frame_equal(cat.events, ref.events, check_exact=True)
+    md = cat.metadata
+    assert md["graph_spec"] == "ring:100" and md["graph_hash"] == graph_hash(model)
+    assert md["alpha"] == 2.0 and md["seed_entropy"] == 42 and md["transient"] == 300
+    assert md["dt"] == ref.metadata["dt"]
+    info = run_cli("info", out)
+    assert info.returncode == 0, info.stderr
+    for piece in (
+        "ring(100)",
+        "spec ring:100",
+        f"sha256:{md['graph_hash']}",
+        "alpha=2.0",
+        "SeedSequence entropy 42",
+        f"faultnet    {faultnet.__version__}",
+        "3,000",
+        "after a transient of 300",
+        "b (MLE)",
+        "b (LSQ)",
+    ):
+        assert piece in info.stdout, piece
+    # nothing is silently overwritten
+    again = run_cli("simulate", "ring:100", "--events", "100", "--out", out)
+    assert again.returncode == 2 and "refusing to overwrite" in again.stderr
+    assert read_metadata(out) == md
+
+
+def test_console_script_help():
+    exe = shutil.which("faultnet", path=os.path.dirname(sys.executable))
+    cmd = [exe] if exe else PY
+    res = subprocess.run([*cmd, "--help"], capture_output=True, text=True, timeout=60)
+    assert res.returncode == 0
+    for name in ("simulate", "info", "sweep", "summarize"):
+        assert name in res.stdout
+
+
+@pytest.mark.parametrize("command", ["simulate", "info", "sweep", "summarize"])
+def test_every_command_has_help_with_examples(command, capsys):
+    assert main([command, "--help"]) == 0
+    text = capsys.readouterr().out
+    assert "examples:" in text and f"faultnet {command} " in text
+
+
+def test_bad_input_exit_codes(tmp_path, capsys):
+    assert main(["simulate", "hexagon:12", "--events", "10"]) == 2
+    err = capsys.readouterr().err
+    assert "unknown graph kind 'hexagon'" in err and "valid forms:" in err
+    assert "percolation:LATTICE:RxC" in err and "ring:N" in err
+    assert main(["simulate", "square:10y10", "--events", "10"]) == 2
+    assert "ROWSxCOLS" in capsys.readouterr().err
+    assert main(["simulate", "percolation:square:10x10", "--events", "10"]) == 2
+    assert "needs p=P" in capsys.readouterr().err
+    assert main(["simulate", "ring:10", "--events", "ten"]) == 2
+    assert "expected a positive integer" in capsys.readouterr().err
+    assert main(["simulate", "ring:10", "--events", "10", "--sigma", "2"]) == 2
+    assert "sigma must lie in the open interval" in capsys.readouterr().err
+    assert main(["simulate", "ring:10"]) == 2
+    assert "--events N is required" in capsys.readouterr().err
+    assert main(["simulate", "--resume", "--events", "10"]) == 2
+    assert main(["info", str(tmp_path / "nope.parquet")]) == 2
+    (tmp_path / "junk.parquet").write_bytes(b"PAR1 not really")
+    assert main(["info", str(tmp_path / "junk.parquet")]) == 1
+    assert "truncated or corrupt" in capsys.readouterr().err
+    assert main(["frobnicate"]) == 2
+
+
+def test_graph_files(tmp_path, capsys):
+    g = faultnet.graphs.ring(24)
+    for node in g:
+        del g.nodes[node]["pos"]  # GraphML holds no tuples
+    g.graph.update(k=8.0, sigma=0.02, alpha=1.5)
+    nx.set_node_attributes(g, {3: 2.5}, "alpha")  # one heterogeneous block
+    g.edges[0, 1]["k"] = 4.0
+    nx.write_graphml(g, tmp_path / "asp.graphml")
+    out = tmp_path / "g.parquet"
+    assert (
+        main(
+            [
+                "simulate",
+                str(tmp_path / "asp.graphml"),
+                "--events",
+                "200",
+                "--seed",
+                "1",
+                "--out",
+                str(out),
+            ]
+        )
+        == 0
+    )
+    md = read_metadata(out)
+    assert (md["k"], md["sigma"], md["alpha"], md["heterogeneous"]) == (8.0, 0.02, 1.5, True)
+    model = build_model(str(tmp_path / "asp.graphml"))
+    assert model.nodes == list(range(24))  # integer ids come back as ints
+    assert model.alpha_values[3] == 2.5 and model.adjacency[0, 1] == 4.0
+    ref = faultnet.simulate(model, 200, rng=1, progress=False)
+    pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
+    # node-link JSON with the older "links" key; --alpha overrides the graph's default
+    data = nx.node_link_data(g, edges="links")
+    (tmp_path / "asp.json").write_text(json.dumps(data))
+    out2 = tmp_path / "j.parquet"
+    assert (
+        main(
+            [
+                "simulate",
+                f"file:{tmp_path / 'asp.json'}",
+                "--events",
+                "200",
+                "--seed",
+                "1",
+                "--alpha",
+                "0.5",
+                "--out",
+                str(out2),
+            ]
+        )
+        == 0
+    )
+    md2 = read_metadata(out2)
+    assert md2["alpha"] == 0.5 and md2["k"] == 8.0
+    capsys.readouterr()
+    (tmp_path / "bad.json").write_text('{"nodes": [{"id": 0}], "edges": [], "directed": true}')
+    assert main(["simulate", str(tmp_path / "bad.json"), "--events", "5"]) == 2
+    assert "directed" in capsys.readouterr().err
+    assert main(["simulate", str(tmp_path / "none.graphml"), "--events", "5"]) == 2
+    assert "does not exist" in capsys.readouterr().err
+
+
+def test_percolation_specs_are_reproducible():
+    a = build_model("percolation:square:20x20:p=pc:all", rng=5)
+    b = build_model("percolation:square:20x20:p=0.592746:all", rng=5)
+    c = build_model("percolation:square:20x20:p=pc:all", rng=6)
+    d = build_model("percolation:square:20x20:p=pc:all:seed=9", rng=6)
+    e = build_model("percolation:square:20x20:p=pc:all:seed=9", rng=7)
+    assert graph_hash(a) == graph_hash(b) != graph_hash(c)
+    assert graph_hash(d) == graph_hash(e)
+    assert parse_graph_spec("square:12").canonical == "square:12x12"
+    assert parse_graph_spec("percolation:triangular:8x8:periodic:p=pc:prune").canonical == (
+        "percolation:triangular:8x8:periodic:p=0.5:largest:prune"
+    )
+
+
+class Crash(BaseException):
+    pass
+
+
+def test_resume_from_the_command_line(tmp_path, capsys, monkeypatch):
+    out = tmp_path / "r.parquet"
+    real = runner._save_checkpoint
+    calls = []
+
+    def save(*args):
+        calls.append(1)
+        if len(calls) > 3:
+            raise Crash
+        return real(*args)
+
+    monkeypatch.setattr(runner, "_save_checkpoint", save)
+    args = [
+        "simulate",
+        "ring:50",
+        "--alpha",
+        "1.5",
+        "--events",
+        "2000",
+        "--seed",
+        "8",
+        "--chunk",
+        "200",
+        "--checkpoint-every",
+        "0",
+        "--out",
+        str(out),
+    ]
+    with pytest.raises(Crash):
+        main(args)
+    monkeypatch.undo()
+    capsys.readouterr()
+    assert main(args) == 2  # a checkpoint exists: neither restarted nor overwritten
+    assert "pass --resume" in capsys.readouterr().err
+    assert main(["info", str(out)]) == 0
+    assert "600 of 2,000 events committed" in capsys.readouterr().out
+    assert main(["simulate", "--resume", "--alpha", "2", "--out", str(out)]) == 2
+    assert "alpha: checkpoint has 1.5, this call 2.0" in capsys.readouterr().err
+    assert main(["simulate", "--resume", "--out", str(out)]) == 0  # the rest comes from run.json
+    assert "resumed at event 600" in capsys.readouterr().out
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(50), alpha=1.5)
+    ref = faultnet.simulate(model, 2000, rng=8, progress=False)
+    pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
+    assert main([*args, "--resume"]) == 0
+    assert "already complete" in capsys.readouterr().out
+
+
+def test_sweep_and_summarize_commands(tmp_path, capsys):
+    toml = tmp_path / "a.toml"
+    toml.write_text('[sweep]\ngraph = "ring:30"\nalpha = [1.0, 2.0]\nevents = 300\nseed = 2\n')
+    assert main(["sweep", str(toml), "--workers", "1", "--csv", str(tmp_path / "a.csv")]) == 0
+    out = capsys.readouterr().out
+    assert "2 of 2 points done" in out and "b_mle" in out
+    table = pd.read_csv(tmp_path / "a.csv")
+    assert list(table["alpha"]) == [1.0, 2.0] and list(table["status"]) == ["done", "done"]
+    assert main(["summarize", str(tmp_path / "a"), "--csv", str(tmp_path / "a.csv")]) == 2
+    assert "refusing to overwrite" in capsys.readouterr().err
+    assert (
+        main(["summarize", str(tmp_path / "a"), "--csv", str(tmp_path / "a.csv"), "--force"]) == 0
+    )
+    assert main(["info", str(tmp_path / "a")]) == 2
+    assert "faultnet summarize" in capsys.readouterr().err
+    toml.write_text('[sweep]\ngraph = "ring:30"\nalpah = 1\nevents = 300\n')
+    assert main(["sweep", str(toml)]) == 2
+    assert "unknown key 'alpah'" in capsys.readouterr().err

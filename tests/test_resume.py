@@ -1,0 +1,196 @@
+"""Checkpoint and resume: a killed run continues to the same catalog, bit for bit."""
+
+import os
+import random
+import signal
+import subprocess
+import sys
+import time
+
+import pandas as pd
+import pytest
+
+import faultnet
+from faultnet import runner
+from faultnet.io import CatalogError, OutputExistsError, read_catalog
+
+N_BLOCKS, N_EVENTS, SEED = 200, 40_000, 11
+
+
+def _committed(out):
+    try:
+        st = runner.checkpoint_status(out)
+    except (OSError, ValueError, KeyError):  # caught mid-rename: try again later
+        return -1
+    if st is None:
+        return N_EVENTS if os.path.exists(out) else 0
+    return st["events_done"]
+
+
+def test_sigkill_at_random_moments_then_resume(tmp_path):
+    """Kill a real `faultnet simulate` with SIGKILL 4 times, resume, compare to one clean run."""
+    out = str(tmp_path / "ring.parquet")
+    cmd = [
+        sys.executable,
+        "-m",
+        "faultnet",
+        "simulate",
+        f"ring:{N_BLOCKS}",
+        "--events",
+        str(N_EVENTS),
+        "--seed",
+        str(SEED),
+        "--chunk",
+        "500",
+        "--checkpoint-every",
+        "0",
+        "--out",
+        out,
+        "--resume",
+        "--no-progress",
+    ]
+    rng = random.Random(2024)
+    kills = []  # events committed when each SIGKILL landed
+    for attempt in range(4):
+        before = _committed(out)
+        proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+        if attempt == 0:
+            time.sleep(rng.uniform(0.05, 1.0))  # during start-up, before any checkpoint
+        else:
+            deadline = time.monotonic() + 60
+            while _committed(out) <= before and proc.poll() is None:
+                assert time.monotonic() < deadline, "the run made no progress"
+                time.sleep(0.01)
+            time.sleep(rng.uniform(0.0, 0.4))  # somewhere inside the writing loop
+        if proc.poll() is not None:
+            break  # finished before we could kill it
+        proc.send_signal(signal.SIGKILL)
+        proc.wait()
+        assert proc.returncode == -signal.SIGKILL
+        kills.append(_committed(out))
+    assert len(kills) >= 3, kills
+    assert kills[-1] > 0 and kills == sorted(kills), kills  # progress survives every kill
+    assert kills[-1] < N_EVENTS
+    done = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "resumed at event" in done.stdout or "already complete" in done.stdout
+    assert not os.path.exists(runner.checkpoint_dir(out))
+    assert sorted(os.listdir(tmp_path)) == ["ring.parquet"]  # no temporary files left
+    cat = read_catalog(out)
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(N_BLOCKS))
+    ref = faultnet.simulate(model, N_EVENTS, rng=SEED, progress=False)
+    pd.testing.assert_frame_equal(cat.events, ref.events, check_exact=True)
+    assert cat.metadata["n_steps"] == ref.metadata["n_steps"]
+    assert cat.metadata["sessions"] >= 2
+    print(f"events committed at the {len(kills)} kills: {kills}")
+
+
+class Crash(BaseException):
+    """Stands in for a kill at a chosen instant (not an Exception: nothing handles it)."""
+
+
+@pytest.fixture(scope="module")
+def small():
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(60), alpha=1.5)
+    ref = faultnet.simulate(model, 3000, rng=5, progress=False)
+    return model, ref
+
+
+def _run(model, out, **kw):
+    kw = {"rng": 5, "chunk_events": 250, "checkpoint_interval": 0, "progress": False, **kw}
+    return runner.simulate_to_parquet(model, 3000, out, **kw)
+
+
+@pytest.mark.parametrize("where", ["after_part", "in_checkpoint", "in_merge", "in_cleanup"])
+def test_crash_windows(tmp_path, monkeypatch, small, where):
+    """A crash between any two steps of the commit protocol still resumes exactly."""
+    model, ref = small
+    out = tmp_path / "cat.parquet"
+    calls = {"n": 0}
+
+    if where in ("after_part", "in_checkpoint"):
+        real = runner._save_checkpoint
+
+        def save(path, *args):
+            calls["n"] += 1
+            if calls["n"] == 5:
+                if where == "in_checkpoint":  # leave a half-written temporary file
+                    with open(
+                        os.path.join(os.path.dirname(path), ".checkpoint.npz.tmp-1-x"), "wb"
+                    ) as fh:
+                        fh.write(b"PK")
+                raise Crash
+            return real(path, *args)
+
+        monkeypatch.setattr(runner, "_save_checkpoint", save)
+    elif where == "in_merge":
+
+        def merge(parts, out_, md, overwrite=False):
+            with open(os.path.join(tmp_path, ".cat.parquet.tmp-1-x"), "wb") as fh:
+                fh.write(b"PAR1")
+            raise Crash
+
+        monkeypatch.setattr(runner, "merge_parts", merge)
+    else:
+
+        def remove(wd):
+            os.remove(os.path.join(wd, "run.json"))
+            raise Crash
+
+        monkeypatch.setattr(runner, "_remove_checkpoint_dir", remove)
+    with pytest.raises(Crash):
+        _run(model, out)
+    monkeypatch.undo()
+    if where == "after_part":  # a part beyond the checkpoint is on disk
+        wd = runner.checkpoint_dir(out)
+        assert "part-000004.parquet" in os.listdir(wd)
+        assert runner.checkpoint_status(out)["parts"] == 4
+    with pytest.raises(OutputExistsError, match="resume"):
+        _run(model, out)  # never silently restarted or overwritten
+    rep = _run(model, out, resume=True)
+    pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
+    assert sorted(os.listdir(tmp_path)) == ["cat.parquet"]
+    if where == "in_cleanup":
+        assert rep.status == "already complete"
+    elif where == "in_merge":
+        assert rep.resumed_from == 3000
+    else:
+        assert 0 < rep.resumed_from < 3000
+
+
+def test_resume_checks_parameters(tmp_path, small):
+    model, ref = small
+    out = tmp_path / "cat.parquet"
+    with pytest.raises(Crash):
+        _crash_after(model, out, 3)
+    with pytest.raises(faultnet.InvalidParameterError, match="alpha|graph_hash"):
+        _run(model.with_params(alpha=2.0), out, resume=True)
+    with pytest.raises(faultnet.InvalidParameterError, match="seed_entropy"):
+        _run(model, out, resume=True, rng=6)
+    # a committed part that went missing cannot be resumed exactly
+    wd = runner.checkpoint_dir(out)
+    os.rename(os.path.join(wd, "part-000001.parquet"), os.path.join(wd, "moved"))
+    with pytest.raises(CatalogError, match="force"):
+        _run(model, out, resume=True)
+    with pytest.raises(OutputExistsError, match="did not write"):
+        _run(model, out, force=True)  # foreign file in the checkpoint folder
+    os.remove(os.path.join(wd, "moved"))
+    _run(model, out, force=True)
+    pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
+
+
+def _crash_after(model, out, n):
+    real = runner._save_checkpoint
+    calls = {"n": 0}
+
+    def save(path, *args):
+        calls["n"] += 1
+        if calls["n"] > n:
+            raise Crash
+        return real(path, *args)
+
+    runner._save_checkpoint = save
+    try:
+        _run(model, out)
+    finally:
+        runner._save_checkpoint = real
