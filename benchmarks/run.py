@@ -115,8 +115,10 @@ def main(argv=None):
     if args.scaling:
         jobs += [(f"L{n}", 1.0, f"periodic square {n}x{n}") for n in (32, 64, 128, 256, 512, 1024)]
     rows = []
-    header = (f"{'id':5} {'workload':46} {'N':>8} {'alpha':>5} {'events/s':>10} "
-              f"{'block-steps/s':>14} {'blocks/ev':>9} {'steps/ev':>8} {'peak MiB':>8}")
+    header = (
+        f"{'id':5} {'workload':46} {'N':>8} {'alpha':>5} {'events/s':>10} "
+        f"{'block-steps/s':>14} {'blocks/ev':>9} {'steps/ev':>8} {'peak MiB':>8}"
+    )
     print(header)
     print("-" * len(header))
     for wid, alpha, desc in jobs:
@@ -128,13 +130,18 @@ def main(argv=None):
         row = json.loads(out.decode().strip().splitlines()[-1])
         row["workload"] = desc
         rows.append(row)
-        print(f"{wid:5} {desc:46} {row['blocks']:>8} {alpha:>5} {row['events_per_s']:>10,.0f} "
-              f"{row['block_steps_per_s']:>14,.0f} {row['mean_blocks']:>9.2f} "
-              f"{row['steps_per_event']:>8.1f} {row['peak_rss_mib']:>8.0f}", flush=True)
+        print(
+            f"{wid:5} {desc:46} {row['blocks']:>8} {alpha:>5} {row['events_per_s']:>10,.0f} "
+            f"{row['block_steps_per_s']:>14,.0f} {row['mean_blocks']:>9.2f} "
+            f"{row['steps_per_event']:>8.1f} {row['peak_rss_mib']:>8.0f}",
+            flush=True,
+        )
     if args.compile:
         cold, warm, import_s = compile_times()
-        print(f"\nimport faultnet: {import_s:.2f} s; first simulate: {cold:.1f} s cold cache, "
-              f"{warm:.2f} s warm cache")
+        print(
+            f"\nimport faultnet: {import_s:.2f} s; first simulate: {cold:.1f} s cold cache, "
+            f"{warm:.2f} s warm cache"
+        )
     if args.json:
         with open(args.json, "w") as fh:
             for row in rows:

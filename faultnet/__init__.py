@@ -23,8 +23,8 @@ from faultnet.exceptions import (
 )
 from faultnet.model import CarlsonLanger
 from faultnet.simulate import default_dt, simulate, slip_event
-from faultnet.stats import BFit, fit_b_lsq, fit_b_mle, irregularity, magnitude_distribution
 from faultnet.state import State
+from faultnet.stats import BFit, fit_b_lsq, fit_b_mle, irregularity, magnitude_distribution
 
 # Parquet I/O, long runs and sweeps import pyarrow and friends: load on first use
 # so that ``import faultnet`` stays fast.

@@ -16,7 +16,9 @@ __all__ = ["CarlsonLanger"]
 
 def _check_sigma(value, where):
     if not (math.isfinite(value) and 0.0 < value < 1.0):
-        raise InvalidParameterError(f"sigma must lie in the open interval (0, 1); got {value!r}{where}")
+        raise InvalidParameterError(
+            f"sigma must lie in the open interval (0, 1); got {value!r}{where}"
+        )
 
 
 def _check_alpha(value, where):
@@ -26,7 +28,9 @@ def _check_alpha(value, where):
 
 def _check_k(value, where):
     if not (math.isfinite(value) and value > 0.0):
-        raise InvalidParameterError(f"spring constant k must be finite and > 0; got {value!r}{where}")
+        raise InvalidParameterError(
+            f"spring constant k must be finite and > 0; got {value!r}{where}"
+        )
 
 
 def _as_float(value, name, where=""):
@@ -97,7 +101,9 @@ class CarlsonLanger:
             raise InvalidParameterError("graph is empty: it has no blocks (nodes)")
         loops = list(nx.selfloop_edges(g))
         if loops:
-            raise InvalidParameterError(f"graph has self-loops (a spring from a block to itself): {loops[:5]}")
+            raise InvalidParameterError(
+                f"graph has self-loops (a spring from a block to itself): {loops[:5]}"
+            )
         set_ = object.__setattr__
         set_(self, "k", _as_float(self.k, "k"))
         set_(self, "sigma", _as_float(self.sigma, "sigma"))
@@ -124,7 +130,10 @@ class CarlsonLanger:
             rows[e], cols[e], vals[e] = index[a], index[b], kv
         n = len(index)
         mat = sp.coo_matrix(
-            (np.concatenate([vals, vals]), (np.concatenate([rows, cols]), np.concatenate([cols, rows]))),
+            (
+                np.concatenate([vals, vals]),
+                (np.concatenate([rows, cols]), np.concatenate([cols, rows])),
+            ),
             shape=(n, n),
         ).tocsr()
         mat.sort_indices()

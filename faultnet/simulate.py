@@ -114,9 +114,7 @@ def _initial_state(model, x0, rng):
     if isinstance(x0, State):
         z = np.asarray(x0.z, dtype=np.float64)
         if z.shape != (model.n,):
-            raise InvalidParameterError(
-                f"x0 state has {z.size} blocks but the model has {model.n}"
-            )
+            raise InvalidParameterError(f"x0 state has {z.size} blocks but the model has {model.n}")
         return x0.copy(), None
     gen, seq = _seed_and_rng(rng)
     if x0 is None:
@@ -165,8 +163,19 @@ _STATUS_MESSAGES = {
 class _Run:
     """Arrays of one run: topology, state, work space and output buffers."""
 
-    def __init__(self, model, state, dt, record_slips, trace_idx, max_trace_rows,
-                 profiles_rows, max_event_duration, max_velocity, method=DEFAULT_METHOD):
+    def __init__(
+        self,
+        model,
+        state,
+        dt,
+        record_slips,
+        trace_idx,
+        max_trace_rows,
+        profiles_rows,
+        max_event_duration,
+        max_velocity,
+        method=DEFAULT_METHOD,
+    ):
         n = model.n
         adj = model.adjacency
         self.indptr = adj.indptr.astype(np.int64)
@@ -179,12 +188,14 @@ class _Run:
         self.scal = np.array([state.offset, state.w], dtype=np.float64)
         self.keys = np.empty(n, dtype=np.float64)
         self.tree = empty_tree(n)
-        K.build_keys_and_tree(self.z, self.indptr, self.indices, self.kval, self.diag,
-                              self.keys, self.tree)
+        K.build_keys_and_tree(
+            self.z, self.indptr, self.indices, self.kval, self.diag, self.keys, self.tree
+        )
         self.W = np.zeros((N_WORK_DOPRI, n), dtype=np.float64)
         self.IW = np.zeros((N_IWORK, n), dtype=np.int64)
-        self.ctrl = np.array([dt, max_event_duration, max_velocity, METHODS[method]],
-                             dtype=np.float64)
+        self.ctrl = np.array(
+            [dt, max_event_duration, max_velocity, METHODS[method]], dtype=np.float64
+        )
         cap = max(4 * n, 1 << 16) if record_slips else 0
         self.slip_e = np.zeros(cap, dtype=np.int64)
         self.slip_n = np.zeros(cap, dtype=np.int64)
@@ -199,10 +210,31 @@ class _Run:
     def call(self, n_req, ev0, cat_f, cat_i, profiles):
         self.cnt[0] = 0
         return K.run_events(
-            n_req, ev0, self.z, self.scal, self.keys, self.tree, self.W, self.IW,
-            self.indptr, self.indices, self.kval, self.diag, self.oms, self.cfr, self.ctrl,
-            cat_f, cat_i, self.slip_e, self.slip_n, self.slip_v, self.trace_idx, self.trace,
-            profiles, self.cnt, self.out,
+            n_req,
+            ev0,
+            self.z,
+            self.scal,
+            self.keys,
+            self.tree,
+            self.W,
+            self.IW,
+            self.indptr,
+            self.indices,
+            self.kval,
+            self.diag,
+            self.oms,
+            self.cfr,
+            self.ctrl,
+            cat_f,
+            cat_i,
+            self.slip_e,
+            self.slip_n,
+            self.slip_v,
+            self.trace_idx,
+            self.trace,
+            profiles,
+            self.cnt,
+            self.out,
         )
 
     def take_slips(self, parts):
@@ -212,10 +244,22 @@ class _Run:
         self.cnt[1] = 0
 
 
-def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
-             record_slips=False, record_profiles=False, trace_nodes=None,
-             max_trace_rows=1_000_000, max_event_duration=1e4, max_velocity=1e3,
-             method=DEFAULT_METHOD):
+def simulate(
+    model,
+    n_events,
+    x0=None,
+    rng=None,
+    dt=None,
+    progress=None,
+    *,
+    record_slips=False,
+    record_profiles=False,
+    trace_nodes=None,
+    max_trace_rows=1_000_000,
+    max_event_duration=1e4,
+    max_velocity=1e3,
+    method=DEFAULT_METHOD,
+):
     """Run ``n_events`` slip events of a Carlson-Langer model.
 
     Parameters
@@ -280,9 +324,18 @@ def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
             f"record_profiles would store {n_events} x {model.n} values (limit "
             f"{_MAX_PROFILE_VALUES:.0e}); run fewer events or record slips instead"
         )
-    run = _Run(model, state, dt, record_slips, trace_idx, int(max_trace_rows),
-               n_events if record_profiles else 0, float(max_event_duration), float(max_velocity),
-               method)
+    run = _Run(
+        model,
+        state,
+        dt,
+        record_slips,
+        trace_idx,
+        int(max_trace_rows),
+        n_events if record_profiles else 0,
+        float(max_event_duration),
+        float(max_velocity),
+        method,
+    )
     cat_f = np.zeros((n_events, 3), dtype=np.float64)
     cat_i = np.zeros((n_events, 3), dtype=np.int64)
     slip_parts = []
@@ -291,8 +344,13 @@ def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
     steps = block_steps = 0
     chunk = 256
     t0 = time.perf_counter()
-    with tqdm(total=n_events, unit="ev", disable=(None if progress is None else not progress),
-              leave=False, desc="faultnet") as bar:
+    with tqdm(
+        total=n_events,
+        unit="ev",
+        disable=(None if progress is None else not progress),
+        leave=False,
+        desc="faultnet",
+    ) as bar:
         while done < n_events:
             n_req = min(chunk, n_events - done)
             tic = time.perf_counter()
@@ -317,8 +375,24 @@ def simulate(model, n_events, x0=None, rng=None, dt=None, progress=None, *,
     wall = time.perf_counter() - t0
     run.take_slips(slip_parts)
     final = State(run.z, float(run.scal[0]), float(run.scal[1]), ev0 + n_events)
-    return _wrap(model, run, final, dt, method, ev0, cat_f, cat_i, slip_parts, record_slips,
-                 record_profiles, seq, wall, steps, block_steps, x0)
+    return _wrap(
+        model,
+        run,
+        final,
+        dt,
+        method,
+        ev0,
+        cat_f,
+        cat_i,
+        slip_parts,
+        record_slips,
+        record_profiles,
+        seq,
+        wall,
+        steps,
+        block_steps,
+        x0,
+    )
 
 
 def _raise(status, run, model, event, dt):
@@ -328,16 +402,32 @@ def _raise(status, run, model, event, dt):
     raise cls(template.format(node=node, event=event, dt=dt, vmax=run.ctrl[2], maxd=run.ctrl[1]))
 
 
-def _wrap(model, run, final, dt, method, ev0, cat_f, cat_i, slip_parts, record_slips, record_profiles,
-          seq, wall, steps, block_steps, x0):
+def _wrap(
+    model,
+    run,
+    final,
+    dt,
+    method,
+    ev0,
+    cat_f,
+    cat_i,
+    slip_parts,
+    record_slips,
+    record_profiles,
+    seq,
+    wall,
+    steps,
+    block_steps,
+    x0,
+):
     from faultnet import __version__
 
     events = events_frame(ev0, cat_f, cat_i, model.nodes)
     slips = None
     if record_slips:
-        cols = [np.concatenate(c) if slip_parts else np.zeros(0) for c in zip(*slip_parts)] \
-            if slip_parts else [np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0)]
-        slips = slips_frame(cols[0], cols[1], cols[2], model.nodes)
+        parts = slip_parts or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))]
+        event, node, slip = (np.concatenate([p[c] for p in parts]) for c in range(3))
+        slips = slips_frame(event, node, slip, model.nodes)
     traces = None
     if run.trace_idx.size:
         traces = traces_frame(run.trace[: int(run.cnt[2])], run.trace_idx, model.nodes)
@@ -357,8 +447,14 @@ def _wrap(model, run, final, dt, method, ev0, cat_f, cat_i, slip_parts, record_s
         block_steps=block_steps,
     )
     return SimulationResult(
-        events=events, state=final, model=model, dt=dt, metadata=md, slips=slips,
-        profiles=run.profiles if record_profiles else None, traces=traces,
+        events=events,
+        state=final,
+        model=model,
+        dt=dt,
+        metadata=md,
+        slips=slips,
+        profiles=run.profiles if record_profiles else None,
+        traces=traces,
     )
 
 

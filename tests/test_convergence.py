@@ -9,8 +9,15 @@ from faultnet.simulate import default_dt
 
 
 def slip_errors(model, x0, factors, method):
-    ref, _ = reference_events(model.adjacency.toarray(), model.sigma_values,
-                              model.alpha_values, x0, 1, rtol=1e-13, atol=1e-16)
+    ref, _ = reference_events(
+        model.adjacency.toarray(),
+        model.sigma_values,
+        model.alpha_values,
+        x0,
+        1,
+        rtol=1e-13,
+        atol=1e-16,
+    )
     base = default_dt(model, method)
     errs = []
     for f in factors:
@@ -37,7 +44,8 @@ def test_order_and_default_accuracy(graph, alpha, x0, method, min_order):
     print(f"errors {errs}, fitted order {order:.2f}")
     # stick and join instants are located inside the step (Hermite estimate,
     # then Newton on the true residual), so each scheme keeps its order:
-    # measured 5.7-6.3 for dopri5 (order 5) and 3.2-4.2 for rk4 (order 4; pre-asymptotic at the largest steps)
+    # measured 5.7-6.3 for dopri5 (order 5) and 3.2-4.2 for rk4 (order 4;
+    # pre-asymptotic at the largest steps)
     assert order > min_order, (order, errs)
     # at the default dt a single event is within 1e-6 relative of the dt -> 0 limit
     assert errs[2] < 1e-6

@@ -10,8 +10,12 @@ import faultnet
 @pytest.fixture(scope="module")
 def run():
     g = nx.disjoint_union_all(
-        [faultnet.graphs.ring(12), faultnet.graphs.chain(5), nx.empty_graph(3),
-         faultnet.graphs.square_lattice(3, 3)]
+        [
+            faultnet.graphs.ring(12),
+            faultnet.graphs.chain(5),
+            nx.empty_graph(3),
+            faultnet.graphs.square_lattice(3, 3),
+        ]
     )
     model = faultnet.CarlsonLanger(g, k=16, sigma=0.01, alpha=2.0)
     res = faultnet.simulate(model, 3000, rng=11, progress=False, record_slips=True)

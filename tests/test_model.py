@@ -24,7 +24,9 @@ def test_laplacian_and_forces_match_the_definition():
     assert model.adjacency[0, 1] == model.adjacency[1, 0] == 3.0
     assert model.adjacency[1, 2] == 16.0
     np.testing.assert_allclose(model.laplacian.sum(axis=1), 0.0, atol=1e-12)
-    np.testing.assert_allclose(model.stiffness, 1.0 + np.asarray(model.adjacency.sum(axis=1)).ravel())
+    np.testing.assert_allclose(
+        model.stiffness, 1.0 + np.asarray(model.adjacency.sum(axis=1)).ravel()
+    )
 
 
 def test_node_attributes_and_fallbacks():

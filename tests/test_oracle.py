@@ -23,12 +23,20 @@ def random_model(seed, n=6, p_edge=0.5):
 
 
 def compare_event_by_event(model, x0, n_events, rel=1e-5):
-    ref, _ = reference_events(model.adjacency.toarray(), model.sigma_values,
-                              model.alpha_values, x0, n_events, rtol=1e-12, atol=1e-15)
+    ref, _ = reference_events(
+        model.adjacency.toarray(),
+        model.sigma_values,
+        model.alpha_values,
+        x0,
+        n_events,
+        rtol=1e-12,
+        atol=1e-15,
+    )
     starts = [(np.asarray(x0, float), 0.0)] + [(e["x"], e["t"]) for e in ref[:-1]]
-    for k, ((x, u), e) in enumerate(zip(starts, ref)):
-        res = faultnet.simulate(model, 1, x0=faultnet.State.from_x(x, u), progress=False,
-                                record_slips=True)
+    for k, ((x, u), e) in enumerate(zip(starts, ref, strict=True)):
+        res = faultnet.simulate(
+            model, 1, x0=faultnet.State.from_x(x, u), progress=False, record_slips=True
+        )
         row = res.events.iloc[0]
         assert row["hypocenter"] == model.nodes[e["hypocenter"]], k
         assert row["n_blocks"] == e["n_blocks"], k
@@ -50,14 +58,21 @@ def test_whole_sequence_on_a_heterogeneous_chain():
     # a whole sequence, while chaos has not yet amplified the 1e-7 differences
     # of single events (they reach 1e-6 at event 8 and 1e-2 at event 19)
     g = faultnet.graphs.chain(4)
-    for (a, b), k in zip(g.edges, [5.0, 12.0, 8.0]):
+    for (a, b), k in zip(g.edges, [5.0, 12.0, 8.0], strict=True):
         g.edges[a, b]["k"] = k
     for v, (s, al) in enumerate([(0.01, 0.5), (0.02, 0.8), (0.015, 0.3), (0.01, 0.6)]):
         g.nodes[v]["sigma"], g.nodes[v]["alpha"] = s, al
     model = faultnet.CarlsonLanger(g)
     x0 = np.array([0.0, 0.01, 0.004, 0.02])
-    ref, _ = reference_events(model.adjacency.toarray(), model.sigma_values,
-                              model.alpha_values, x0, 8, rtol=1e-12, atol=1e-15)
+    ref, _ = reference_events(
+        model.adjacency.toarray(),
+        model.sigma_values,
+        model.alpha_values,
+        x0,
+        8,
+        rtol=1e-12,
+        atol=1e-15,
+    )
     res = faultnet.simulate(model, 8, x0=x0, progress=False)
     assert res.events.n_blocks.tolist() == [e["n_blocks"] for e in ref]
     np.testing.assert_allclose(res.events.S, [e["S"] for e in ref], rtol=1e-5)

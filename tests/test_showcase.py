@@ -14,7 +14,10 @@ def test_showcase_example_fast_mode(tmp_path):
     env = dict(os.environ, FAULTNET_FAST="1", FAULTNET_FIGURES=str(tmp_path), MPLBACKEND="Agg")
     out = subprocess.run(
         [sys.executable, str(ROOT / "examples" / "plot_showcase_b_vs_alpha.py")],
-        env=env, capture_output=True, text=True, timeout=300,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
     )
     assert out.returncode == 0, out.stderr
     assert (tmp_path / "showcase_b_vs_alpha.png").stat().st_size > 10_000

@@ -5,7 +5,7 @@ import pandas as pd
 import pytest
 
 import faultnet
-from faultnet import InvalidParameterError, NumericalInstabilityError, EventTooLongError
+from faultnet import EventTooLongError, InvalidParameterError, NumericalInstabilityError
 
 
 @pytest.fixture(scope="module")
@@ -32,7 +32,7 @@ def test_catalog_columns_and_consistency(ring_model):
     assert forces.max() <= 1.0 + 1e-9
     # the hypocenter slipped
     first = slips.groupby("event").node.apply(set)
-    assert all(h in first[e] for e, h in zip(ev.event, ev.hypocenter))
+    assert all(h in first[e] for e, h in zip(ev.event, ev.hypocenter, strict=True))
 
 
 def test_seed_recorded_and_reproducible(ring_model):
@@ -75,8 +75,9 @@ def test_long_run_keeps_precision():
 
 def test_profiles_and_traces():
     model = faultnet.CarlsonLanger(faultnet.graphs.chain(2), k=16, sigma=0.01, alpha=2.0)
-    res = faultnet.simulate(model, 5, x0=[0.0, 0.00142], progress=False,
-                            record_profiles=True, trace_nodes=[0, 1])
+    res = faultnet.simulate(
+        model, 5, x0=[0.0, 0.00142], progress=False, record_profiles=True, trace_nodes=[0, 1]
+    )
     assert res.profiles.shape == (5, 2)
     np.testing.assert_array_equal(res.profiles[-1], res.x)
     tr = res.traces
@@ -88,8 +89,9 @@ def test_profiles_and_traces():
     x_end = first[first.time == first.time.max()].sort_values("node").x.to_numpy()
     np.testing.assert_allclose(x_end, res.profiles[0], rtol=1e-12)
     assert not tr.attrs["truncated"]
-    small = faultnet.simulate(model, 5, x0=[0.0, 0.00142], progress=False,
-                              trace_nodes=[1], max_trace_rows=10)
+    small = faultnet.simulate(
+        model, 5, x0=[0.0, 0.00142], progress=False, trace_nodes=[1], max_trace_rows=10
+    )
     assert len(small.traces) == 10 and small.traces.attrs["truncated"]
 
 

@@ -67,8 +67,9 @@ def test_sequence_matches_oracle(run):
     # two-period state, which sits on the edge |x2 - x1| = 0.0019 of the map.
     model, res = run
     n = 16
-    ref, _ = reference_events(model.adjacency.toarray(), SIGMA, 2.0, [0.001, 0.002], n,
-                              rtol=1e-12, atol=1e-15)
+    ref, _ = reference_events(
+        model.adjacency.toarray(), SIGMA, 2.0, [0.001, 0.002], n, rtol=1e-12, atol=1e-15
+    )
     ev = res.events.iloc[:n]
     assert ev.n_blocks.tolist() == [e["n_blocks"] for e in ref]
     np.testing.assert_allclose(ev.S, [e["S"] for e in ref], rtol=1e-3)
@@ -78,10 +79,11 @@ def test_each_event_matches_oracle_from_the_same_state(run):
     # event by event: restart faultnet from the oracle's state before each event
     model, _ = run
     n = 16
-    ref, _ = reference_events(model.adjacency.toarray(), SIGMA, 2.0, [0.001, 0.002], n,
-                              rtol=1e-12, atol=1e-15)
+    ref, _ = reference_events(
+        model.adjacency.toarray(), SIGMA, 2.0, [0.001, 0.002], n, rtol=1e-12, atol=1e-15
+    )
     starts = [(np.array([0.001, 0.002]), 0.0)] + [(e["x"], e["t"]) for e in ref[:-1]]
-    for (x, u), e in zip(starts, ref):
+    for (x, u), e in zip(starts, ref, strict=True):
         state, row = faultnet.slip_event(model, x, u=u)
         assert row["n_blocks"] == e["n_blocks"]
         assert row["S"] == pytest.approx(e["S"], rel=1e-6)

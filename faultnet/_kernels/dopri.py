@@ -14,7 +14,7 @@ first-same-as-last evaluation is the next step's A), see benchmarks/NOTES.md.
 import numba as nb
 import numpy as np
 
-from faultnet._kernels.integrate import ACT, AN, D, DN, N_WORK, P, P2, V, VN, A, accel, force
+from faultnet._kernels.integrate import ACT, AN, DN, N_WORK, P2, VN, A, D, P, V, accel, force
 
 __all__ = ["KA", "KV", "N_WORK_DOPRI", "dopri_step"]
 
@@ -76,8 +76,7 @@ def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
         # s + 1 go to `nxt`, which no block reads during this pass
         for q in range(nact):
             i = IW[ACT, q]
-            W[KA + s, q] = _accel_q(i, q, cur, KV + s, W, indptr, indices, kval, diag, oms,
-                                    cfr)
+            W[KA + s, q] = _accel_q(i, q, cur, KV + s, W, indptr, indices, kval, diag, oms, cfr)
             if s < 5:
                 W[KV + s + 1, q] = _stage_input(i, q, s + 1, h, W, nxt)
         cur, nxt = nxt, cur

@@ -20,16 +20,42 @@ import math
 
 import numba as nb
 
-from faultnet._kernels.integrate import (
-    A, ACT, ACTIVE, AN, APOS, D, DN, F0, FLAG, FRONTIER, P, P2, STUCK, TOUCH, UNTOUCHED, V, VN,
-    accel, force, hermite_dip, hermite_fall, hermite_root, rk4_step,
-)
 from faultnet._kernels.dopri import dopri_step
+from faultnet._kernels.integrate import (
+    ACT,
+    ACTIVE,
+    AN,
+    APOS,
+    DN,
+    F0,
+    FLAG,
+    FRONTIER,
+    P2,
+    STUCK,
+    TOUCH,
+    UNTOUCHED,
+    VN,
+    A,
+    D,
+    P,
+    V,
+    accel,
+    force,
+    hermite_dip,
+    hermite_fall,
+    hermite_root,
+    rk4_step,
+)
 from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
 
 __all__ = [
-    "STATUS_OK", "STATUS_SLIPS_FULL", "STATUS_NONFINITE", "STATUS_RUNAWAY",
-    "STATUS_EVENT_TOO_LONG", "RECENTRE_AT", "run_events",
+    "STATUS_OK",
+    "STATUS_SLIPS_FULL",
+    "STATUS_NONFINITE",
+    "STATUS_RUNAWAY",
+    "STATUS_EVENT_TOO_LONG",
+    "RECENTRE_AT",
+    "run_events",
 ]
 
 STATUS_OK = 0
@@ -185,8 +211,7 @@ def _residual(who, kind, W, indptr, indices, kval, diag):
 
 
 @nb.njit(cache=True, nogil=True)
-def _partial_step(th, dt, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms,
-                  cfr):
+def _partial_step(th, dt, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     """Step to the crossing: Hermite estimate, then Newton on the true residual.
 
     Each Newton iteration redoes the partial step from the committed state, so
@@ -244,8 +269,23 @@ def _record_trace(ev, t, offset, z, W, trace_nodes, trace_buf, cnt):
 
 
 @nb.njit(cache=True, nogil=True)
-def _finish_event(ntouch, ev, z, keys, tree, W, IW, indptr, indices, kval, diag,
-                  slip_event, slip_node, slip_val, cnt):
+def _finish_event(
+    ntouch,
+    ev,
+    z,
+    keys,
+    tree,
+    W,
+    IW,
+    indptr,
+    indices,
+    kval,
+    diag,
+    slip_event,
+    slip_node,
+    slip_val,
+    cnt,
+):
     """Apply the slips, refresh keys of touched blocks, reset the work rows."""
     total = 0.0
     nblk = 0
@@ -276,8 +316,29 @@ def _finish_event(ntouch, ev, z, keys, tree, W, IW, indptr, indices, kval, diag,
 
 
 @nb.njit(cache=True, nogil=True)
-def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
-               ctrl, slip_event, slip_node, slip_val, trace_nodes, trace_buf, cnt, out):
+def _one_event(
+    ev,
+    z,
+    scal,
+    keys,
+    tree,
+    W,
+    IW,
+    indptr,
+    indices,
+    kval,
+    diag,
+    oms,
+    cfr,
+    ctrl,
+    slip_event,
+    slip_node,
+    slip_val,
+    trace_nodes,
+    trace_buf,
+    cnt,
+    out,
+):
     """Load the plate to the next failure and run one slip event to its end.
 
     ``out`` receives (t_start, duration, S, n_blocks, hypocenter, n_steps).
@@ -292,10 +353,8 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
     out[0] = scal[0] + w
     out[4] = hyp
     ntouch = _touch(hyp, w, keys, W, IW, 0)
-    nact, ntouch = _activate(hyp, 0, ntouch, w, keys, W, IW, indptr, indices, kval, diag,
-                             oms, cfr)
-    nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag,
-                              oms, cfr)
+    nact, ntouch = _activate(hyp, 0, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
+    nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
     tracing = trace_nodes.shape[0] > 0
     if tracing:
         _record_trace(ev, 0.0, scal[0], z, W, trace_nodes, trace_buf, cnt)
@@ -303,8 +362,9 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
     nsteps = 0
     while nact > 0:
         _step(method, dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-        th, who, kind, status = _earliest_crossing(dt, nact, W, IW, indptr, indices, kval,
-                                                   diag, vmax)
+        th, who, kind, status = _earliest_crossing(
+            dt, nact, W, IW, indptr, indices, kval, diag, vmax
+        )
         if status != STATUS_OK:
             return status
         nsteps += 1
@@ -318,12 +378,14 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
                 for _ in range(64):
                     # step to the located crossing; if another crossing is found
                     # earlier inside that shorter step, go to it instead
-                    h, npart = _partial_step(th, h, who, kind, method, nact, IW, W, indptr,
-                                             indices, kval, diag, oms, cfr)
+                    h, npart = _partial_step(
+                        th, h, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr
+                    )
                     nsteps += npart
                     cnt[4] += npart * nact
                     th2, who2, kind2, status = _earliest_crossing(
-                        h, nact, W, IW, indptr, indices, kval, diag, vmax)
+                        h, nact, W, IW, indptr, indices, kval, diag, vmax
+                    )
                     if status != STATUS_OK:
                         return status
                     if who2 < 0 or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
@@ -334,11 +396,13 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
             else:
                 _restore_positions(nact, W, IW)
             if kind == _JOIN and IW[FLAG, who] != ACTIVE:
-                nact, ntouch = _activate(who, nact, ntouch, w, keys, W, IW, indptr, indices,
-                                         kval, diag, oms, cfr)
+                nact, ntouch = _activate(
+                    who, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+                )
             # joins first: the neighbours of a block that sticks now are scanned too
-            nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval,
-                                      diag, oms, cfr)
+            nact, ntouch = _join_scan(
+                nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+            )
             if kind == _STICK and IW[FLAG, who] == ACTIVE:
                 nact = _deactivate(who, nact, W, IW)
             nact = _stick_scan(nact, W, IW)
@@ -346,8 +410,23 @@ def _one_event(ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
             _record_trace(ev, t, scal[0], z, W, trace_nodes, trace_buf, cnt)
         if t > max_duration or nsteps > max_steps:
             return STATUS_EVENT_TOO_LONG
-    total, nblk = _finish_event(ntouch, ev, z, keys, tree, W, IW, indptr, indices, kval, diag,
-                                slip_event, slip_node, slip_val, cnt)
+    total, nblk = _finish_event(
+        ntouch,
+        ev,
+        z,
+        keys,
+        tree,
+        W,
+        IW,
+        indptr,
+        indices,
+        kval,
+        diag,
+        slip_event,
+        slip_node,
+        slip_val,
+        cnt,
+    )
     out[1] = t
     out[2] = total
     out[3] = nblk
@@ -368,9 +447,33 @@ def _recentre(z, scal, keys, tree, indptr, indices, kval, diag):
 
 
 @nb.njit(cache=True, nogil=True)
-def run_events(n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
-               ctrl, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes, trace_buf,
-               profiles, cnt, out):
+def run_events(
+    n_req,
+    ev0,
+    z,
+    scal,
+    keys,
+    tree,
+    W,
+    IW,
+    indptr,
+    indices,
+    kval,
+    diag,
+    oms,
+    cfr,
+    ctrl,
+    cat_f,
+    cat_i,
+    slip_event,
+    slip_node,
+    slip_val,
+    trace_nodes,
+    trace_buf,
+    profiles,
+    cnt,
+    out,
+):
     """Run up to ``n_req`` events; see the module docstring for ``cnt``.
 
     State: ``z`` (displacements minus ``scal[0]``), ``scal = [offset, w]``
@@ -382,9 +485,29 @@ def run_events(n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, di
     for e in range(n_req):
         if slip_val.shape[0] > 0 and cnt[1] + n > slip_val.shape[0]:
             return STATUS_SLIPS_FULL
-        status = _one_event(ev0 + e, z, scal, keys, tree, W, IW, indptr, indices, kval, diag,
-                            oms, cfr, ctrl, slip_event, slip_node, slip_val, trace_nodes,
-                            trace_buf, cnt, out)
+        status = _one_event(
+            ev0 + e,
+            z,
+            scal,
+            keys,
+            tree,
+            W,
+            IW,
+            indptr,
+            indices,
+            kval,
+            diag,
+            oms,
+            cfr,
+            ctrl,
+            slip_event,
+            slip_node,
+            slip_val,
+            trace_nodes,
+            trace_buf,
+            cnt,
+            out,
+        )
         if status != STATUS_OK:
             return status
         cat_f[e, 0] = out[0]
