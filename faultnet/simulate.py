@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 
 import numpy as np
 from tqdm.auto import tqdm
@@ -200,6 +201,8 @@ class _Run:
         self.slip_e = np.zeros(cap, dtype=np.int64)
         self.slip_n = np.zeros(cap, dtype=np.int64)
         self.slip_v = np.zeros(cap, dtype=np.float64)
+        self.slip_rows = 0
+        self.slips_truncated = False
         self.trace_idx = trace_idx
         rows = max_trace_rows if trace_idx.size else 0
         self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
@@ -237,11 +240,17 @@ class _Run:
             self.out,
         )
 
-    def take_slips(self, parts):
-        m = int(self.cnt[1])
-        if m:
+    def take_slips(self, parts, limit):
+        """Move the buffered slip rows to ``parts``; stop recording past ``limit`` rows."""
+        m = min(int(self.cnt[1]), limit - self.slip_rows)
+        if m > 0:
             parts.append((self.slip_e[:m].copy(), self.slip_n[:m].copy(), self.slip_v[:m].copy()))
+            self.slip_rows += m
         self.cnt[1] = 0
+        if self.slip_v.size and self.slip_rows >= limit:
+            self.slips_truncated = True
+            self.slip_e = self.slip_n = np.zeros(0, dtype=np.int64)
+            self.slip_v = np.zeros(0, dtype=np.float64)
 
 
 def simulate(
@@ -256,6 +265,7 @@ def simulate(
     record_profiles=False,
     trace_nodes=None,
     max_trace_rows=1_000_000,
+    max_slip_rows=50_000_000,
     max_event_duration=1e4,
     max_velocity=1e3,
     method=DEFAULT_METHOD,
@@ -280,7 +290,9 @@ def simulate(
     progress : bool or None
         Show a progress bar (None: only on a terminal).
     record_slips : bool
-        Keep per-block slips of every event (``result.slips``).
+        Keep per-block slips of every event (``result.slips``), at most
+        ``max_slip_rows`` rows (then recording stops with a warning and
+        ``slips.attrs["truncated"]`` is True; the catalog stays complete).
     record_profiles : bool
         Keep the displacement profile after every event (small graphs only:
         ``n_events * n_blocks`` is limited to 2e7).
@@ -362,7 +374,7 @@ def simulate(
             block_steps += int(run.cnt[4])
             run.cnt[3] = run.cnt[4] = 0
             if status == K.STATUS_SLIPS_FULL:
-                run.take_slips(slip_parts)
+                run.take_slips(slip_parts, max_slip_rows)
             elif status != K.STATUS_OK:
                 _raise(status, run, model, ev0 + done, dt)
             bar.update(got)
@@ -373,7 +385,7 @@ def simulate(
             elif elapsed > 0.5:
                 chunk = max(chunk // 2, 1)
     wall = time.perf_counter() - t0
-    run.take_slips(slip_parts)
+    run.take_slips(slip_parts, max_slip_rows)
     final = State(run.z, float(run.scal[0]), float(run.scal[1]), ev0 + n_events)
     return _wrap(
         model,
@@ -428,6 +440,13 @@ def _wrap(
         parts = slip_parts or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))]
         event, node, slip = (np.concatenate([p[c] for p in parts]) for c in range(3))
         slips = slips_frame(event, node, slip, model.nodes)
+        slips.attrs["truncated"] = run.slips_truncated
+        if run.slips_truncated:
+            warnings.warn(
+                f"per-block slips were recorded for the first {len(slips):,} rows only "
+                "(max_slip_rows); the event catalog is complete",
+                stacklevel=3,
+            )
     traces = None
     if run.trace_idx.size:
         traces = traces_frame(run.trace[: int(run.cnt[2])], run.trace_idx, model.nodes)

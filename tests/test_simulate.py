@@ -141,3 +141,16 @@ def test_runaway_and_too_long_events_raise_clear_errors():
         faultnet.simulate(model, 100, rng=1, progress=False, max_velocity=1e-3)
     with pytest.raises(EventTooLongError, match="max_event_duration"):
         faultnet.simulate(model, 100, rng=1, progress=False, max_event_duration=0.05)
+
+
+def test_slip_recording_is_bounded():
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(30), k=16, sigma=0.01, alpha=1.0)
+    full = faultnet.simulate(model, 500, rng=4, progress=False, record_slips=True)
+    assert not full.slips.attrs["truncated"]
+    with pytest.warns(UserWarning, match="max_slip_rows"):
+        cut = faultnet.simulate(
+            model, 500, rng=4, progress=False, record_slips=True, max_slip_rows=100
+        )
+    assert len(cut.slips) == 100 and cut.slips.attrs["truncated"]
+    pd.testing.assert_frame_equal(cut.slips, full.slips.iloc[:100])
+    pd.testing.assert_frame_equal(cut.events, full.events)
