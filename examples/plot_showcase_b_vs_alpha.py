@@ -64,15 +64,16 @@ if FAST or not DATA.exists():
     )
 else:
     table = pd.read_csv(DATA)
-    print(f"stored sweep {DATA}: {len(table)} points, {int(table.events.iloc[0]):,} events "
-          f"each, transient {int(table.transient.iloc[0]):,}")
+    print(
+        f"stored sweep {DATA}: {len(table)} points, {int(table.events.iloc[0]):,} events "
+        f"each, transient {int(table.transient.iloc[0]):,}"
+    )
 
 # %%
 # b (mean and spread across replicas) against alpha
 stats = (
     table.groupby(["graph", "alpha"])
-    .agg(b=("b_mle", "mean"), b_sd=("b_mle", "std"), b_lsq=("b_lsq", "mean"),
-         n=("b_mle", "size"))
+    .agg(b=("b_mle", "mean"), b_sd=("b_mle", "std"), b_lsq=("b_lsq", "mean"), n=("b_mle", "size"))
     .reset_index()
 )
 print(stats.round(3).to_string(index=False))

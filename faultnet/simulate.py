@@ -56,15 +56,16 @@ def omega2_max(model: CarlsonLanger) -> float:
 
 
 def default_dt(model: CarlsonLanger, method: str = DEFAULT_METHOD) -> float:
-    """Default integration step: ``DT_COEFFICIENT / sqrt(omega2_max(model))``.
+    """Default integration step: ``DT_COEFFICIENT[method] / sqrt(omega2_max(model))``.
 
-    With the coefficient 0.02 slip sizes of single events are within ~1e-7
-    relative of the dt -> 0 limit on the one-block, two-block and ring test
-    cases (``tests/test_accuracy.py``).
+    With the coefficients 0.3 (dopri5) and 0.08 (rk4), slip sizes of single
+    events are within 3e-7 relative of the dt -> 0 limit on the one-block,
+    two-block and ring test cases (``tests/test_convergence.py``).
 
     >>> import faultnet
-    >>> round(default_dt(faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=2.0)), 6)
-    0.008944
+    >>> one = faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=2.0)
+    >>> round(default_dt(one), 6), round(default_dt(one, "rk4"), 6)
+    (0.134164, 0.035777)
     """
     return DT_COEFFICIENT[_check_method(method)] / math.sqrt(omega2_max(model))
 

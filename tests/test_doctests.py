@@ -1,0 +1,15 @@
+"""Docstring examples of the public modules run as tests."""
+
+import doctest
+import importlib
+
+import pytest
+
+MODULES = ["faultnet", "faultnet.model", "faultnet.simulate", "faultnet.stats", "faultnet.dynamics"]
+
+
+@pytest.mark.parametrize("name", MODULES)
+def test_docstring_examples(name):
+    module = importlib.import_module(name)
+    result = doctest.testmod(module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE)
+    assert result.failed == 0
