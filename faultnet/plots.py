@@ -68,7 +68,8 @@ def plot_magnitude_distribution(M_or_table, fit=None, ax=None, label=None, bins=
     table = M_or_table
     if not (isinstance(table, pd.DataFrame) and {"M", "density"} <= set(table.columns)):
         table = magnitude_distribution(M_or_table, bins=bins)
-    shown = table[table["density"] > 0]
+    # empty bins become gaps (NaN) so the line does not bridge sparse tails
+    shown = table.assign(density=table["density"].where(table["density"] > 0))
     kw.setdefault("marker", "o")
     kw.setdefault("markersize", 3)
     (line,) = ax.plot(shown["M"], shown["density"], label=label, **kw)

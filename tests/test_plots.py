@@ -129,3 +129,15 @@ def test_plot_graph_large_lattice_is_fast(tmp_path):
     ax = plots.plot_graph(lattice)
     assert time.perf_counter() - tic < 3.0
     assert len(ax.collections[0].get_segments()) == lattice.number_of_edges()
+
+
+def test_magnitude_distribution_leaves_gaps_at_empty_bins():
+    import numpy as np
+
+    from faultnet.plots import plot_magnitude_distribution
+
+    M = np.concatenate([np.full(50, -3.0), np.full(5, 3.0)])  # nothing in between
+    ax = plot_magnitude_distribution(M, bins=12)
+    y = ax.get_lines()[0].get_ydata()
+    assert np.isnan(y).sum() >= 5  # the empty bins are gaps, not bridged
+    assert np.nanmin(y) > 0
