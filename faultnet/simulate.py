@@ -208,7 +208,7 @@ class _Run:
         rows = max_trace_rows if trace_idx.size else 0
         self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
         self.profiles = np.zeros((profiles_rows, n if profiles_rows else 0), dtype=np.float64)
-        self.cnt = np.zeros(6, dtype=np.int64)
+        self.cnt = np.zeros(8, dtype=np.int64)
         self.out = np.zeros(6, dtype=np.float64)
 
     def call(self, n_req, ev0, cat_f, cat_i, profiles):

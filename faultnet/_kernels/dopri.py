@@ -16,7 +16,7 @@ import numpy as np
 
 from faultnet._kernels.integrate import ACT, AN, DN, N_WORK, P2, VN, A, D, P, V, accel, force
 
-__all__ = ["KA", "KV", "N_WORK_DOPRI", "dopri_step"]
+__all__ = ["KA", "KV", "N_WORK_DOPRI", "dense_coeffs", "dopri_step"]
 
 KV = N_WORK  # 6 rows of stage velocities
 KA = N_WORK + 6  # 6 rows of stage accelerations
@@ -34,6 +34,29 @@ _A = np.array(
     ]
 )
 _B = np.array([35 / 384, 0.0, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84])
+# Dense output (Shampine 1986, as in Hairer's DOPRI5 CONTD5): 4th-order continuous
+# extension from the same stages, stage 7 being the derivative at the step's end
+_D1 = -12715105075.0 / 11282082432.0
+_D3 = 87487479700.0 / 32700410799.0
+_D4 = -10690763975.0 / 1880347072.0
+_D5 = 701980252875.0 / 199316789632.0
+_D6 = -1453857185.0 / 822651844.0
+_D7 = 69997945.0 / 29380423.0
+
+
+@nb.njit(cache=True, nogil=True, inline="always")
+def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
+    """Power-basis coefficients (c0..c4) of the DP5 dense output y(theta), theta in [0, 1].
+
+    ``y0``, ``y1`` are the values at the ends of the step, ``k*`` the stage
+    derivatives times h (stage 2 does not enter).  Being linear, the formula
+    also interpolates any linear functional of the state (a block's force).
+    """
+    r2 = y1 - y0
+    r3 = k1 - r2
+    r4 = r2 - k7 - r3
+    r5 = _D1 * k1 + _D3 * k3 + _D4 * k4 + _D5 * k5 + _D6 * k6 + _D7 * k7
+    return y0, r2 + r3, r4 + r5 - r3, -(r4 + 2.0 * r5), r5
 
 
 @nb.njit(cache=True, nogil=True, inline="always")

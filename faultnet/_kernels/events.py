@@ -13,6 +13,8 @@ cnt   meaning
 3     integration steps (full and partial) in this call
 4     block-steps (slipping blocks x steps) in this call
 5     1 if the trajectory buffer filled up (recording stopped)
+6     block-steps spent in partial steps (stepping to crossings)
+7     re-locations (an earlier crossing found inside a partial step)
 ====  =========================================================
 """
 
@@ -20,7 +22,7 @@ import math
 
 import numba as nb
 
-from faultnet._kernels.dopri import dopri_step
+from faultnet._kernels.dopri import KA, KV, dense_coeffs, dopri_step
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -44,6 +46,7 @@ from faultnet._kernels.integrate import (
     hermite_dip,
     hermite_fall,
     hermite_root,
+    poly_root,
     rk4_step,
 )
 from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
@@ -141,30 +144,79 @@ def _stick_scan(nact, W, IW):
 
 
 @nb.njit(cache=True, nogil=True)
-def _earliest_crossing(h, nact, W, IW, indptr, indices, kval, diag, vmax):
+def _stick_theta(method, h, q, i, W):
+    """Where inside the step block i (active position q) stops; 2.0 if it does not."""
+    v0 = W[V, i]
+    v1 = W[VN, i]
+    if v1 <= 0.0:
+        if v0 > 0.0:
+            if method == 1:
+                c0, c1, c2, c3, c4 = dense_coeffs(
+                    v0,
+                    v1,
+                    h * W[KA, q],
+                    h * W[KA + 2, q],
+                    h * W[KA + 3, q],
+                    h * W[KA + 4, q],
+                    h * W[KA + 5, q],
+                    h * W[AN, i],
+                )
+                return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
+            return hermite_root(0.0, 1.0, v0, h * W[A, i], v1, h * W[AN, i])
+        # joined at rest and stops again within the step
+        return hermite_fall(h * W[A, i], v1, h * W[AN, i])
+    if W[A, i] < 0.0 and W[AN, i] > 0.0:
+        return hermite_dip(v0, h * W[A, i], v1, h * W[AN, i])
+    return 2.0
+
+
+@nb.njit(cache=True, nogil=True)
+def _join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
+    """Where inside the step the force on stuck block j reaches 1 (f0 < 1 <= f1)."""
+    if method == 1:
+        g1 = g3 = g4 = g5 = g6 = g7 = 0.0
+        for r in range(indptr[j], indptr[j + 1]):
+            b = indices[r]
+            if IW[FLAG, b] == ACTIVE:
+                c = kval[r]
+                q = IW[APOS, b]
+                g1 += c * W[KV, q]
+                g3 += c * W[KV + 2, q]
+                g4 += c * W[KV + 3, q]
+                g5 += c * W[KV + 4, q]
+                g6 += c * W[KV + 5, q]
+                g7 += c * W[VN, b]
+        c0, c1, c2, c3, c4 = dense_coeffs(
+            f0 - 1.0, f1 - 1.0, h * g1, h * g3, h * g4, h * g5, h * g6, h * g7
+        )
+        return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
+    df0 = 0.0
+    df1 = 0.0
+    for r in range(indptr[j], indptr[j + 1]):
+        df0 += kval[r] * W[V, indices[r]]
+        df1 += kval[r] * W[VN, indices[r]]
+    return hermite_root(0.0, 1.0, f0 - 1.0, h * df0, f1 - 1.0, h * df1)
+
+
+@nb.njit(cache=True, nogil=True)
+def _earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax):
     """Earliest stick or join inside the step just taken (D,V,A -> DN,VN,AN).
 
     Returns (theta, block, kind, status): theta in [0, 1] is the fraction of
-    the step, block is -1 when nothing happens inside the step.
+    the step, block is -1 when nothing happens inside the step.  With DP5 the
+    crossing is located on the scheme's 4th-order dense output.
     """
     best = 2.0
     who = -1
     kind = 0
     for q in range(nact):
         i = IW[ACT, q]
-        v0 = W[V, i]
         v1 = W[VN, i]
         if not (v1 < vmax):
             return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
-        if v1 <= 0.0:
-            if v0 > 0.0:
-                th = hermite_root(0.0, 1.0, v0, h * W[A, i], v1, h * W[AN, i])
-            else:  # joined at rest and stops again within the step
-                th = hermite_fall(h * W[A, i], v1, h * W[AN, i])
-        elif W[A, i] < 0.0 and W[AN, i] > 0.0:
-            th = hermite_dip(v0, h * W[A, i], v1, h * W[AN, i])
-        else:
+        if v1 > 0.0 and W[A, i] >= 0.0:
             continue
+        th = _stick_theta(method, h, q, i, W)
         if th < best:
             best, who, kind = th, i, _STICK
     for q in range(nact):
@@ -177,15 +229,11 @@ def _earliest_crossing(h, nact, W, IW, indptr, indices, kval, diag, vmax):
             if f1 < 1.0:
                 continue
             f0 = force(j, D, W, indptr, indices, kval, diag)
-            if f0 >= 1.0:
-                th = 0.0
-            else:
-                df0 = 0.0
-                df1 = 0.0
-                for r in range(indptr[j], indptr[j + 1]):
-                    df0 += kval[r] * W[V, indices[r]]
-                    df1 += kval[r] * W[VN, indices[r]]
-                th = hermite_root(0.0, 1.0, f0 - 1.0, h * df0, f1 - 1.0, h * df1)
+            th = (
+                0.0
+                if f0 >= 1.0
+                else _join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval)
+            )
             if th < best:
                 best, who, kind = th, j, _JOIN
     return best, who, kind, STATUS_OK
@@ -211,27 +259,53 @@ def _residual(who, kind, W, indptr, indices, kval, diag):
 
 
 @nb.njit(cache=True, nogil=True)
-def _partial_step(th, dt, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
-    """Step to the crossing: Hermite estimate, then Newton on the true residual.
+def _taylor_shift(dh, nact, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Move the end of the step by a tiny ``dh``: x += v dh + a dh^2 / 2, v += a dh.
 
-    Each Newton iteration redoes the partial step from the committed state, so
-    the crossing is located to round-off whatever the order of the scheme.
-    Returns the step length taken and the number of partial steps.
+    Used only for |dh| <= ``_TAYLOR_MAX`` times the step, where the neglected
+    third-order term is below round-off; costs one force pass instead of a step.
     """
-    h = th * dt
-    _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-    n = 1
-    for _ in range(4):
+    half = 0.5 * dh * dh
+    for q in range(nact):
+        i = IW[ACT, q]
+        x = W[DN, i] + dh * W[VN, i] + half * W[AN, i]
+        W[DN, i] = x
+        W[P, i] = x
+        W[P2, i] = x
+        W[VN, i] += dh * W[AN, i]
+    for q in range(nact):
+        i = IW[ACT, q]
+        W[AN, i] = accel(i, P, VN, W, indptr, indices, kval, diag, oms, cfr)
+
+
+#: largest Newton correction, as a fraction of the step, done by a Taylor shift
+_TAYLOR_MAX = 1e-4
+
+
+@nb.njit(cache=True, nogil=True)
+def _polish(h, hmax, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
+    """Newton on the true crossing residual at the end of a step of length h.
+
+    A small correction shifts the end by a Taylor step; a large one (a poor
+    first estimate) redoes the step from the committed state.  The crossing
+    ends located to round-off whatever the order of the scheme.  Returns the
+    step length and the number of full step evaluations it took.
+    """
+    n = 0
+    for _ in range(6):
         g, dg = _residual(who, kind, W, indptr, indices, kval, diag)
         if dg == 0.0:
             break
         dh = -g / dg
         hn = h + dh
-        if not (0.0 < hn <= dt) or abs(dh) <= 1e-13 * dt:
+        if not (0.0 < hn <= hmax) or abs(dh) <= 1e-13 * hmax:
             break
+        if abs(dh) <= _TAYLOR_MAX * hmax:
+            _taylor_shift(dh, nact, W, IW, indptr, indices, kval, diag, oms, cfr)
+        else:
+            _step(method, hn, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+            n += 1
         h = hn
-        _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-        n += 1
     return h, n
 
 
@@ -363,7 +437,7 @@ def _one_event(
     while nact > 0:
         _step(method, dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
         th, who, kind, status = _earliest_crossing(
-            dt, nact, W, IW, indptr, indices, kval, diag, vmax
+            method, dt, nact, W, IW, indptr, indices, kval, diag, vmax
         )
         if status != STATUS_OK:
             return status
@@ -378,19 +452,26 @@ def _one_event(
                 for _ in range(64):
                     # step to the located crossing; if another crossing is found
                     # earlier inside that shorter step, go to it instead
-                    h, npart = _partial_step(
-                        th, h, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr
-                    )
-                    nsteps += npart
-                    cnt[4] += npart * nact
+                    h = th * h
+                    _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+                    nsteps += 1
+                    cnt[4] += nact
+                    cnt[6] += nact
                     th2, who2, kind2, status = _earliest_crossing(
-                        h, nact, W, IW, indptr, indices, kval, diag, vmax
+                        method, h, nact, W, IW, indptr, indices, kval, diag, vmax
                     )
                     if status != STATUS_OK:
                         return status
-                    if who2 < 0 or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
+                    if who2 < 0 or who2 == who or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
                         break
                     th, who, kind = th2, who2, kind2
+                    cnt[7] += 1
+                h, npart = _polish(
+                    h, dt, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr
+                )
+                nsteps += npart
+                cnt[4] += npart * nact
+                cnt[6] += npart * nact
                 _commit(nact, W, IW)
                 t += h
             else:

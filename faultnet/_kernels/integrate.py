@@ -45,6 +45,7 @@ __all__ = [
     "hermite_dip",
     "hermite_fall",
     "hermite_root",
+    "poly_root",
 ]
 
 # float work rows
@@ -169,6 +170,32 @@ def hermite_root(lo, hi, y0, m0, y1, m1):
         else:
             hi = th
         d = _hermite_slope(th, y0, m0, y1, m1)
+        nxt = th - f / d if d != 0.0 else 0.5 * (lo + hi)
+        if not (lo < nxt < hi):
+            nxt = 0.5 * (lo + hi)
+        if abs(nxt - th) <= 1e-15:
+            return nxt
+        th = nxt
+    return th
+
+
+@nb.njit(cache=True, nogil=True)
+def poly_root(lo, hi, c0, c1, c2, c3, c4):
+    """Root in [lo, hi] of c0 + c1 t + ... + c4 t^4, which changes sign there.
+
+    Safeguarded Newton as in :func:`hermite_root`; used with the DP5 dense output.
+    """
+    flo = c0 + lo * (c1 + lo * (c2 + lo * (c3 + lo * c4)))
+    th = 0.5 * (lo + hi)
+    for _ in range(60):
+        f = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
+        if f == 0.0:
+            return th
+        if (f > 0.0) == (flo > 0.0):
+            lo, flo = th, f
+        else:
+            hi = th
+        d = c1 + th * (2.0 * c2 + th * (3.0 * c3 + th * 4.0 * c4))
         nxt = th - f / d if d != 0.0 else 0.5 * (lo + hi)
         if not (lo < nxt < hi):
             nxt = 0.5 * (lo + hi)
