@@ -193,7 +193,9 @@ class _Run:
         K.build_keys_and_tree(
             self.z, self.indptr, self.indices, self.kval, self.diag, self.keys, self.tree
         )
-        self.W = np.zeros((N_WORK_DOPRI, n), dtype=np.float64)
+        self.W = np.zeros(
+            (n, N_WORK_DOPRI), dtype=np.float64
+        )  # block-major: one block's rows share cache lines
         self.IW = np.zeros((N_IWORK, n), dtype=np.int64)
         self.ctrl = np.array(
             [dt, max_event_duration, max_velocity, METHODS[method]], dtype=np.float64

@@ -3,8 +3,8 @@
 Same contract as :func:`faultnet._kernels.integrate.rk4_step`: from the
 committed state (D, V, A) of the active blocks to (DN, VN, AN), leaving
 ``P == P2 == DN`` on active blocks and D, V, A untouched.  Stage derivatives
-live in the rows ``KV + s`` (velocities) and ``KA + s`` (accelerations) of W,
-indexed by position in the active list.
+live in the columns ``KV + s`` (velocities) and ``KA + s`` (accelerations) of
+W, in the row of the block's position in the active list (``W[q, KV + s]``).
 
 For the same accuracy this fifth-order scheme takes steps about five times
 longer than RK4 with 6 instead of 4 force evaluations per step (the seventh,
@@ -17,8 +17,8 @@ from faultnet._kernels.integrate import ACT, AN, DN, N_WORK, P2, VN, A, D, P, V,
 
 __all__ = ["KA", "KV", "N_WORK_DOPRI", "dense_coeffs", "dopri_step"]
 
-KV = N_WORK  # 6 rows of stage velocities
-KA = N_WORK + 6  # 6 rows of stage accelerations
+KV = N_WORK  # 6 columns of stage velocities
+KA = N_WORK + 6  # 6 columns of stage accelerations
 N_WORK_DOPRI = N_WORK + 12
 
 # Butcher tableau (Dormand & Prince 1980), written out so each stage pass is
@@ -41,7 +41,7 @@ _D6 = -1453857185.0 / 822651844.0
 _D7 = 69997945.0 / 29380423.0
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
     """Power-basis coefficients (c0..c4) of the DP5 dense output y(theta), theta in [0, 1].
 
@@ -56,7 +56,7 @@ def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
     return y0, r2 + r3, r4 + r5 - r3, -(r4 + 2.0 * r5), r5
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def _acc(i, pos, v, W, indptr, indices, kval, diag, oms, cfr):
     """Acceleration of block i at stage positions ``pos`` and stage velocity ``v``."""
     den = 1.0 + cfr[i] * v
@@ -65,81 +65,81 @@ def _acc(i, pos, v, W, indptr, indices, kval, diag, oms, cfr):
     return force(i, pos, W, indptr, indices, kval, diag) - oms[i] / den
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     """One Dormand-Prince 5(4) step of length ``h`` for the active blocks.
 
-    Stage s reads positions from one of the rows P, P2 and writes the inputs
+    Stage s reads positions from one of the columns P, P2 and writes the inputs
     of stage s + 1 to the other, which no block reads during that pass.
     """
     for q in range(nact):
         i = IW[ACT, q]
-        v = W[V, i]
-        a = W[A, i]
-        W[KV, q] = v
-        W[KA, q] = a
-        W[P, i] = W[D, i] + h * _A21 * v
-        W[KV + 1, q] = v + h * _A21 * a
+        v = W[i, V]
+        a = W[i, A]
+        W[q, KV] = v
+        W[q, KA] = a
+        W[i, P] = W[i, D] + h * _A21 * v
+        W[q, KV + 1] = v + h * _A21 * a
     for q in range(nact):
         i = IW[ACT, q]
-        v2 = W[KV + 1, q]
+        v2 = W[q, KV + 1]
         a2 = _acc(i, P, v2, W, indptr, indices, kval, diag, oms, cfr)
-        W[KA + 1, q] = a2
-        W[P2, i] = W[D, i] + h * (_A31 * W[KV, q] + _A32 * v2)
-        W[KV + 2, q] = W[V, i] + h * (_A31 * W[KA, q] + _A32 * a2)
+        W[q, KA + 1] = a2
+        W[i, P2] = W[i, D] + h * (_A31 * W[q, KV] + _A32 * v2)
+        W[q, KV + 2] = W[i, V] + h * (_A31 * W[q, KA] + _A32 * a2)
     for q in range(nact):
         i = IW[ACT, q]
-        v3 = W[KV + 2, q]
+        v3 = W[q, KV + 2]
         a3 = _acc(i, P2, v3, W, indptr, indices, kval, diag, oms, cfr)
-        W[KA + 2, q] = a3
-        W[P, i] = W[D, i] + h * (_A41 * W[KV, q] + _A42 * W[KV + 1, q] + _A43 * v3)
-        W[KV + 3, q] = W[V, i] + h * (_A41 * W[KA, q] + _A42 * W[KA + 1, q] + _A43 * a3)
+        W[q, KA + 2] = a3
+        W[i, P] = W[i, D] + h * (_A41 * W[q, KV] + _A42 * W[q, KV + 1] + _A43 * v3)
+        W[q, KV + 3] = W[i, V] + h * (_A41 * W[q, KA] + _A42 * W[q, KA + 1] + _A43 * a3)
     for q in range(nact):
         i = IW[ACT, q]
-        v4 = W[KV + 3, q]
+        v4 = W[q, KV + 3]
         a4 = _acc(i, P, v4, W, indptr, indices, kval, diag, oms, cfr)
-        W[KA + 3, q] = a4
-        dp = _A51 * W[KV, q] + _A52 * W[KV + 1, q] + _A53 * W[KV + 2, q] + _A54 * v4
-        dv = _A51 * W[KA, q] + _A52 * W[KA + 1, q] + _A53 * W[KA + 2, q] + _A54 * a4
-        W[P2, i] = W[D, i] + h * dp
-        W[KV + 4, q] = W[V, i] + h * dv
+        W[q, KA + 3] = a4
+        dp = _A51 * W[q, KV] + _A52 * W[q, KV + 1] + _A53 * W[q, KV + 2] + _A54 * v4
+        dv = _A51 * W[q, KA] + _A52 * W[q, KA + 1] + _A53 * W[q, KA + 2] + _A54 * a4
+        W[i, P2] = W[i, D] + h * dp
+        W[q, KV + 4] = W[i, V] + h * dv
     for q in range(nact):
         i = IW[ACT, q]
-        v5 = W[KV + 4, q]
+        v5 = W[q, KV + 4]
         a5 = _acc(i, P2, v5, W, indptr, indices, kval, diag, oms, cfr)
-        W[KA + 4, q] = a5
+        W[q, KA + 4] = a5
         dp = (
-            _A61 * W[KV, q]
-            + _A62 * W[KV + 1, q]
-            + _A63 * W[KV + 2, q]
-            + _A64 * W[KV + 3, q]
+            _A61 * W[q, KV]
+            + _A62 * W[q, KV + 1]
+            + _A63 * W[q, KV + 2]
+            + _A64 * W[q, KV + 3]
             + _A65 * v5
         )
         dv = (
-            _A61 * W[KA, q]
-            + _A62 * W[KA + 1, q]
-            + _A63 * W[KA + 2, q]
-            + _A64 * W[KA + 3, q]
+            _A61 * W[q, KA]
+            + _A62 * W[q, KA + 1]
+            + _A63 * W[q, KA + 2]
+            + _A64 * W[q, KA + 3]
             + _A65 * a5
         )
-        W[P, i] = W[D, i] + h * dp
-        W[KV + 5, q] = W[V, i] + h * dv
+        W[i, P] = W[i, D] + h * dp
+        W[q, KV + 5] = W[i, V] + h * dv
     for q in range(nact):
         i = IW[ACT, q]
-        v6 = W[KV + 5, q]
+        v6 = W[q, KV + 5]
         a6 = _acc(i, P, v6, W, indptr, indices, kval, diag, oms, cfr)
-        W[KA + 5, q] = a6
+        W[q, KA + 5] = a6
         dp = (
-            _B1 * W[KV, q] + _B3 * W[KV + 2, q] + _B4 * W[KV + 3, q] + _B5 * W[KV + 4, q] + _B6 * v6
+            _B1 * W[q, KV] + _B3 * W[q, KV + 2] + _B4 * W[q, KV + 3] + _B5 * W[q, KV + 4] + _B6 * v6
         )
         dv = (
-            _B1 * W[KA, q] + _B3 * W[KA + 2, q] + _B4 * W[KA + 3, q] + _B5 * W[KA + 4, q] + _B6 * a6
+            _B1 * W[q, KA] + _B3 * W[q, KA + 2] + _B4 * W[q, KA + 3] + _B5 * W[q, KA + 4] + _B6 * a6
         )
-        dn = W[D, i] + h * dp
-        W[DN, i] = dn
-        W[VN, i] = W[V, i] + h * dv
-        W[P2, i] = dn
+        dn = W[i, D] + h * dp
+        W[i, DN] = dn
+        W[i, VN] = W[i, V] + h * dv
+        W[i, P2] = dn
     for q in range(nact):
         i = IW[ACT, q]
-        W[P, i] = W[DN, i]
-        W[AN, i] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)
+        W[i, P] = W[i, DN]
+        W[i, AN] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)

@@ -75,32 +75,32 @@ _STICK = 1
 _JOIN = 2
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _touch(j, w, keys, W, IW, ntouch):
     """Mark block j touched and store its force at the start of the event."""
     IW[FLAG, j] = FRONTIER
-    W[F0, j] = 1.0 + w - keys[j]
+    W[j, F0] = 1.0 + w - keys[j]
     IW[TOUCH, ntouch] = j
     return ntouch + 1
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
     """Block j starts to slip from rest; its neighbours become touched."""
     IW[FLAG, j] = ACTIVE
     IW[ACT, nact] = j
     IW[APOS, j] = nact
-    W[V, j] = 0.0
-    W[VN, j] = 0.0
+    W[j, V] = 0.0
+    W[j, VN] = 0.0
     for p in range(indptr[j], indptr[j + 1]):
         nb_ = indices[p]
         if IW[FLAG, nb_] == UNTOUCHED:
             ntouch = _touch(nb_, w, keys, W, IW, ntouch)
-    W[A, j] = accel(j, P, V, W, indptr, indices, kval, diag, oms, cfr)
+    W[j, A] = accel(j, P, V, W, indptr, indices, kval, diag, oms, cfr)
     return nact + 1, ntouch
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _deactivate(i, nact, W, IW):
     """Block i sticks (v = 0); swap-remove it from the active list."""
     q = IW[APOS, i]
@@ -108,12 +108,12 @@ def _deactivate(i, nact, W, IW):
     IW[ACT, q] = last
     IW[APOS, last] = q
     IW[FLAG, i] = STUCK
-    W[V, i] = 0.0
-    W[VN, i] = 0.0
+    W[i, V] = 0.0
+    W[i, VN] = 0.0
     return nact - 1
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
     """Activate every stuck neighbour of a slipping block whose force is >= 1."""
     q = 0
@@ -130,7 +130,7 @@ def _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, c
     return nact, ntouch
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _stick_scan(nact, W, IW):
     """Deactivate every slipping block that has stopped (v <= 0, a <= 0).
 
@@ -138,39 +138,39 @@ def _stick_scan(nact, W, IW):
     """
     for q in range(nact - 1, -1, -1):
         i = IW[ACT, q]
-        if W[V, i] <= 0.0 and W[A, i] <= 0.0:
+        if W[i, V] <= 0.0 and W[i, A] <= 0.0:
             nact = _deactivate(i, nact, W, IW)
     return nact
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _stick_theta(method, h, q, i, W):
     """Where inside the step block i (active position q) stops; 2.0 if it does not."""
-    v0 = W[V, i]
-    v1 = W[VN, i]
+    v0 = W[i, V]
+    v1 = W[i, VN]
     if v1 <= 0.0:
         if v0 > 0.0:
             if method == 1:
                 c0, c1, c2, c3, c4 = dense_coeffs(
                     v0,
                     v1,
-                    h * W[KA, q],
-                    h * W[KA + 2, q],
-                    h * W[KA + 3, q],
-                    h * W[KA + 4, q],
-                    h * W[KA + 5, q],
-                    h * W[AN, i],
+                    h * W[q, KA],
+                    h * W[q, KA + 2],
+                    h * W[q, KA + 3],
+                    h * W[q, KA + 4],
+                    h * W[q, KA + 5],
+                    h * W[i, AN],
                 )
                 return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
-            return hermite_root(0.0, 1.0, v0, h * W[A, i], v1, h * W[AN, i])
+            return hermite_root(0.0, 1.0, v0, h * W[i, A], v1, h * W[i, AN])
         # joined at rest and stops again within the step
-        return hermite_fall(h * W[A, i], v1, h * W[AN, i])
-    if W[A, i] < 0.0 and W[AN, i] > 0.0:
-        return hermite_dip(v0, h * W[A, i], v1, h * W[AN, i])
+        return hermite_fall(h * W[i, A], v1, h * W[i, AN])
+    if W[i, A] < 0.0 and W[i, AN] > 0.0:
+        return hermite_dip(v0, h * W[i, A], v1, h * W[i, AN])
     return 2.0
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
     """Where inside the step the force on stuck block j reaches 1 (f0 < 1 <= f1)."""
     if method == 1:
@@ -180,12 +180,12 @@ def _join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
             if IW[FLAG, b] == ACTIVE:
                 c = kval[r]
                 q = IW[APOS, b]
-                g1 += c * W[KV, q]
-                g3 += c * W[KV + 2, q]
-                g4 += c * W[KV + 3, q]
-                g5 += c * W[KV + 4, q]
-                g6 += c * W[KV + 5, q]
-                g7 += c * W[VN, b]
+                g1 += c * W[q, KV]
+                g3 += c * W[q, KV + 2]
+                g4 += c * W[q, KV + 3]
+                g5 += c * W[q, KV + 4]
+                g6 += c * W[q, KV + 5]
+                g7 += c * W[b, VN]
         c0, c1, c2, c3, c4 = dense_coeffs(
             f0 - 1.0, f1 - 1.0, h * g1, h * g3, h * g4, h * g5, h * g6, h * g7
         )
@@ -193,12 +193,12 @@ def _join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
     df0 = 0.0
     df1 = 0.0
     for r in range(indptr[j], indptr[j + 1]):
-        df0 += kval[r] * W[V, indices[r]]
-        df1 += kval[r] * W[VN, indices[r]]
+        df0 += kval[r] * W[indices[r], V]
+        df1 += kval[r] * W[indices[r], VN]
     return hermite_root(0.0, 1.0, f0 - 1.0, h * df0, f1 - 1.0, h * df1)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax):
     """Earliest stick or join inside the step just taken (D,V,A -> DN,VN,AN).
 
@@ -211,10 +211,10 @@ def _earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax
     kind = 0
     for q in range(nact):
         i = IW[ACT, q]
-        v1 = W[VN, i]
+        v1 = W[i, VN]
         if not (v1 < vmax):
             return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
-        if v1 > 0.0 and W[A, i] >= 0.0:
+        if v1 > 0.0 and W[i, A] >= 0.0:
             continue
         th = _stick_theta(method, h, q, i, W)
         if th < best:
@@ -239,7 +239,7 @@ def _earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax
     return best, who, kind, STATUS_OK
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     if method == 0:
         rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
@@ -247,18 +247,18 @@ def _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
         dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _residual(who, kind, W, indptr, indices, kval, diag):
     """Crossing function and its time derivative at the end of the last step."""
     if kind == _STICK:
-        return W[VN, who], W[AN, who]
+        return W[who, VN], W[who, AN]
     dg = 0.0
     for r in range(indptr[who], indptr[who + 1]):
-        dg += kval[r] * W[VN, indices[r]]
+        dg += kval[r] * W[indices[r], VN]
     return force(who, P, W, indptr, indices, kval, diag) - 1.0, dg
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _taylor_shift(dh, nact, W, IW, indptr, indices, kval, diag, oms, cfr):
     """Move the end of the step by a tiny ``dh``: x += v dh + a dh^2 / 2, v += a dh.
 
@@ -268,21 +268,21 @@ def _taylor_shift(dh, nact, W, IW, indptr, indices, kval, diag, oms, cfr):
     half = 0.5 * dh * dh
     for q in range(nact):
         i = IW[ACT, q]
-        x = W[DN, i] + dh * W[VN, i] + half * W[AN, i]
-        W[DN, i] = x
-        W[P, i] = x
-        W[P2, i] = x
-        W[VN, i] += dh * W[AN, i]
+        x = W[i, DN] + dh * W[i, VN] + half * W[i, AN]
+        W[i, DN] = x
+        W[i, P] = x
+        W[i, P2] = x
+        W[i, VN] += dh * W[i, AN]
     for q in range(nact):
         i = IW[ACT, q]
-        W[AN, i] = accel(i, P, VN, W, indptr, indices, kval, diag, oms, cfr)
+        W[i, AN] = accel(i, P, VN, W, indptr, indices, kval, diag, oms, cfr)
 
 
 #: largest Newton correction, as a fraction of the step, done by a Taylor shift
 _TAYLOR_MAX = 1e-4
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _polish(h, hmax, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     """Newton on the true crossing residual at the end of a step of length h.
 
@@ -309,24 +309,24 @@ def _polish(h, hmax, who, kind, method, nact, IW, W, indptr, indices, kval, diag
     return h, n
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _commit(nact, W, IW):
     for q in range(nact):
         i = IW[ACT, q]
-        W[D, i] = W[DN, i]
-        W[V, i] = W[VN, i]
-        W[A, i] = W[AN, i]
+        W[i, D] = W[i, DN]
+        W[i, V] = W[i, VN]
+        W[i, A] = W[i, AN]
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _restore_positions(nact, W, IW):
     for q in range(nact):
         i = IW[ACT, q]
-        W[P, i] = W[D, i]
-        W[P2, i] = W[D, i]
+        W[i, P] = W[i, D]
+        W[i, P2] = W[i, D]
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _record_trace(ev, t, offset, z, W, trace_nodes, trace_buf, cnt):
     row = cnt[2]
     if row >= trace_buf.shape[0]:
@@ -337,12 +337,12 @@ def _record_trace(ev, t, offset, z, W, trace_nodes, trace_buf, cnt):
     trace_buf[row, 1] = t
     for c in range(m):
         j = trace_nodes[c]
-        trace_buf[row, 2 + c] = offset + (z[j] + W[D, j])
-        trace_buf[row, 2 + m + c] = W[V, j]
+        trace_buf[row, 2 + c] = offset + (z[j] + W[j, D])
+        trace_buf[row, 2 + m + c] = W[j, V]
     cnt[2] = row + 1
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _finish_event(
     ntouch,
     ev,
@@ -368,7 +368,7 @@ def _finish_event(
     for q in range(ntouch):
         j = IW[TOUCH, q]
         if IW[FLAG, j] == STUCK:
-            s = W[D, j]
+            s = W[j, D]
             total += s
             nblk += 1
             z[j] += s
@@ -382,14 +382,14 @@ def _finish_event(
         j = IW[TOUCH, q]
         keys[j] = block_key(j, z, indptr, indices, kval, diag)
         tree_update(j, keys, tree)
-        W[D, j] = 0.0
-        W[P, j] = 0.0
-        W[P2, j] = 0.0
+        W[j, D] = 0.0
+        W[j, P] = 0.0
+        W[j, P2] = 0.0
         IW[FLAG, j] = UNTOUCHED
     return total, nblk
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _one_event(
     ev,
     z,
@@ -516,7 +516,7 @@ def _one_event(
     return STATUS_OK
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _recentre(z, scal, keys, tree, indptr, indices, kval, diag):
     """Shift the frame by an integer so the plate coordinate stays O(1)."""
     shift = math.floor(scal[1])
@@ -527,7 +527,7 @@ def _recentre(z, scal, keys, tree, indptr, indices, kval, diag):
     build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def run_events(
     n_req,
     ev0,

@@ -2,15 +2,19 @@
 
 Only *active* (slipping) blocks are integrated.  Positions are displacements
 ``delta`` since the start of the event, so round-off does not grow with the
-plate position.  Work arrays live in the rows of ``W`` (float) and ``IW``
-(int), each of length N; the row names are the constants below.
+plate position.  Float work lives in the columns of ``W`` (shape (N, 24),
+block-major so one block's values share cache lines), int work in the rows of
+``IW`` (shape (4, N); the active list ``IW[ACT, :nact]`` is contiguous); the
+column and row names are the constants below.  All kernels are compiled
+without the Numba runtime (``_nrt=False``): they never allocate, and array
+arguments then cost no atomic reference counting at call boundaries.
 
 Invariants kept by every kernel:
-- ``W[P, j] == W[P2, j] == W[D, j]`` for every block that is not active
+- ``W[j, P] == W[j, P2] == W[j, D]`` for every block that is not active
   (neighbours read P and P2, the two stage-position buffers);
-- ``W[V, j] == W[VN, j] == 0`` for every block that is not active;
-- every neighbour of an active block is *touched* (``IW[FLAG] != UNTOUCHED``)
-  and has its starting force in ``W[F0]``.
+- ``W[j, V] == W[j, VN] == 0`` for every block that is not active;
+- every neighbour of an active block is *touched* (``IW[FLAG, j] != UNTOUCHED``)
+  and has its starting force in ``W[j, F0]``.
 """
 
 import numba as nb
@@ -48,7 +52,7 @@ __all__ = [
     "poly_root",
 ]
 
-# float work rows
+# float work columns of W
 D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = range(12)
 N_WORK = 12
 # int work rows
@@ -58,38 +62,38 @@ N_IWORK = 4
 UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def force(i, pos, W, indptr, indices, kval, diag):
-    """Force on touched block ``i`` for the displacements in row ``pos`` of W.
+    """Force on touched block ``i`` for the displacements in column ``pos`` of W.
 
-    Rows are passed by index, never as views: creating a view costs an atomic
+    Columns are passed by index, never as views: creating a view costs an atomic
     reference-count update, which dominated the cost of a step.
     """
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
-        s += kval[p] * W[pos, indices[p]]
-    return W[F0, i] + s - diag[i] * W[pos, i]
+        s += kval[p] * W[indices[p], pos]
+    return W[i, F0] + s - diag[i] * W[i, pos]
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def accel(i, pos, vel, W, indptr, indices, kval, diag, oms, cfr):
-    """Acceleration of slipping block ``i`` (rows ``pos``, ``vel`` of W).
+    """Acceleration of slipping block ``i`` (columns ``pos``, ``vel`` of W).
 
     phi(v) = (1 - sigma) / (1 + 2 alpha v / (1 - sigma)); RK stages may probe
     small negative v, where the same analytic formula is used with its
     denominator floored at 1/2 (never reached with sane steps).
     """
-    den = 1.0 + cfr[i] * W[vel, i]
+    den = 1.0 + cfr[i] * W[i, vel]
     if den < 0.5:
         den = 0.5
     return force(i, pos, W, indptr, indices, kval, diag) - oms[i] / den
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     """Classical RK4 step of length ``h`` from (D, V, A) to (DN, VN, AN).
 
-    Stage positions ping-pong between the rows P and P2, so each stage is a
+    Stage positions ping-pong between the columns P and P2, so each stage is a
     single pass over the active blocks (a block's own stage velocity is only
     read by itself).  Leaves ``P == P2 == DN`` on active blocks; D, V, A are
     untouched so the step can be redone with a shorter ``h``.
@@ -98,37 +102,37 @@ def rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     h6 = h / 6.0
     for q in range(nact):
         i = IW[ACT, q]
-        W[SV, i] = W[V, i]
-        W[SA, i] = W[A, i]
-        W[P, i] = W[D, i] + hh * W[V, i]
-        W[VS, i] = W[V, i] + hh * W[A, i]
+        W[i, SV] = W[i, V]
+        W[i, SA] = W[i, A]
+        W[i, P] = W[i, D] + hh * W[i, V]
+        W[i, VS] = W[i, V] + hh * W[i, A]
     for q in range(nact):
         i = IW[ACT, q]
         k2 = accel(i, P, VS, W, indptr, indices, kval, diag, oms, cfr)
-        W[SV, i] += 2.0 * W[VS, i]
-        W[SA, i] += 2.0 * k2
-        W[P2, i] = W[D, i] + hh * W[VS, i]
-        W[VS, i] = W[V, i] + hh * k2
+        W[i, SV] += 2.0 * W[i, VS]
+        W[i, SA] += 2.0 * k2
+        W[i, P2] = W[i, D] + hh * W[i, VS]
+        W[i, VS] = W[i, V] + hh * k2
     for q in range(nact):
         i = IW[ACT, q]
         k3 = accel(i, P2, VS, W, indptr, indices, kval, diag, oms, cfr)
-        W[SV, i] += 2.0 * W[VS, i]
-        W[SA, i] += 2.0 * k3
-        W[P, i] = W[D, i] + h * W[VS, i]
-        W[VS, i] = W[V, i] + h * k3
+        W[i, SV] += 2.0 * W[i, VS]
+        W[i, SA] += 2.0 * k3
+        W[i, P] = W[i, D] + h * W[i, VS]
+        W[i, VS] = W[i, V] + h * k3
     for q in range(nact):
         i = IW[ACT, q]
         k4 = accel(i, P, VS, W, indptr, indices, kval, diag, oms, cfr)
-        W[DN, i] = W[D, i] + h6 * (W[SV, i] + W[VS, i])
-        W[VN, i] = W[V, i] + h6 * (W[SA, i] + k4)
-        W[P2, i] = W[DN, i]
+        W[i, DN] = W[i, D] + h6 * (W[i, SV] + W[i, VS])
+        W[i, VN] = W[i, V] + h6 * (W[i, SA] + k4)
+        W[i, P2] = W[i, DN]
     for q in range(nact):
         i = IW[ACT, q]
-        W[P, i] = W[DN, i]
-        W[AN, i] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)
+        W[i, P] = W[i, DN]
+        W[i, AN] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def hermite(th, y0, m0, y1, m1):
     """Cubic Hermite interpolant on [0, 1]; m0, m1 are slopes times h."""
     t2 = th * th
@@ -141,7 +145,7 @@ def hermite(th, y0, m0, y1, m1):
     )
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def _hermite_slope(th, y0, m0, y1, m1):
     t2 = th * th
     return (
@@ -152,7 +156,7 @@ def _hermite_slope(th, y0, m0, y1, m1):
     )
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def hermite_root(lo, hi, y0, m0, y1, m1):
     """Root of the Hermite cubic in [lo, hi], where it changes sign.
 
@@ -179,7 +183,7 @@ def hermite_root(lo, hi, y0, m0, y1, m1):
     return th
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def poly_root(lo, hi, c0, c1, c2, c3, c4):
     """Root in [lo, hi] of c0 + c1 t + ... + c4 t^4, which changes sign there.
 
@@ -205,7 +209,7 @@ def poly_root(lo, hi, c0, c1, c2, c3, c4):
     return th
 
 
-@nb.njit(cache=True, nogil=True, inline="always")
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def _first_critical(y0, m0, y1, m1):
     """Smallest root in (0, 1) of the Hermite cubic's slope, or 2.0."""
     c2 = 6.0 * y0 + 3.0 * m0 - 6.0 * y1 + 3.0 * m1
@@ -228,7 +232,7 @@ def _first_critical(y0, m0, y1, m1):
     return best
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def hermite_fall(m0, y1, m1):
     """Root in (0, 1] of a velocity that starts at 0 rising (m0 > 0) and ends <= 0.
 
@@ -242,7 +246,7 @@ def hermite_fall(m0, y1, m1):
     return hermite_root(peak, 1.0, 0.0, m0, y1, m1)
 
 
-@nb.njit(cache=True, nogil=True)
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def hermite_dip(y0, m0, y1, m1):
     """First root in (0, 1] of a Hermite cubic with y0 > 0, y1 > 0, or 2.0.
 
