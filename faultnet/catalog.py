@@ -77,7 +77,8 @@ class SimulationResult:
         displacement at the start = time in units of 1/v0), ``duration``,
         ``n_blocks`` (distinct blocks that slipped), ``S`` (total slip),
         ``M = ln S``, ``hypocenter`` (graph node that failed first) and
-        ``n_steps`` (integration steps).
+        ``n_steps`` (integration steps; for a free single-block slip, the steps
+        of the block's cached solo slip, see ``simulate.SOLO_FAST_PATH``).
     state : State
         Final state; pass it as ``x0`` to continue the run exactly.
     slips : pandas.DataFrame or None
@@ -89,7 +90,9 @@ class SimulationResult:
         (``event``, ``time`` since the event start, ``node``, ``x``, ``v``).
     metadata : dict
         Parameters, dt, seed (SeedSequence entropy and spawn key), versions,
-        wall time and work counters.
+        wall time and work counters: ``n_steps`` and ``block_steps`` (work
+        actually done in this call) and ``solo_events`` (events taken from a
+        cached solo slip, which cost no integration).
     """
 
     events: pd.DataFrame

@@ -37,6 +37,11 @@ METHODS = {"rk4": 0, "dopri5": 1}
 #: default step = DT_COEFFICIENT[method] / sqrt(omega2_max); see :func:`default_dt`
 DT_COEFFICIENT = {"rk4": 0.08, "dopri5": 0.3}
 DEFAULT_METHOD = "dopri5"
+#: An event whose hypocentre slips alone (no neighbour reaches the threshold
+#: during its slip) is the block's *solo slip*, which depends only on its own
+#: stiffness, sigma and alpha: it is integrated once per such parameter class
+#: and reused.  Off: every event is integrated (the reference for tests).
+SOLO_FAST_PATH = True
 #: RK4 is stable on an oscillator for omega*dt < 2.83; refuse steps near it
 _DT_STABILITY = 2.5
 #: initial displacements are drawn uniformly from [0, X0_AMPLITUDE)
@@ -198,7 +203,8 @@ class _Run:
         )  # block-major: one block's rows share cache lines
         self.IW = np.zeros((N_IWORK, n), dtype=np.int64)
         self.ctrl = np.array(
-            [dt, max_event_duration, max_velocity, METHODS[method]], dtype=np.float64
+            [dt, max_event_duration, max_velocity, METHODS[method], float(SOLO_FAST_PATH)],
+            dtype=np.float64,
         )
         cap = max(4 * n, 1 << 16) if record_slips else 0
         self.slip_e = np.zeros(cap, dtype=np.int64)
@@ -210,7 +216,12 @@ class _Run:
         rows = max_trace_rows if trace_idx.size else 0
         self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
         self.profiles = np.zeros((profiles_rows, n if profiles_rows else 0), dtype=np.float64)
-        self.cnt = np.zeros(8, dtype=np.int64)
+        self.cnt = np.zeros(9, dtype=np.int64)
+        # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
+        params = np.column_stack([self.diag, self.oms, self.cfr])
+        _, self.cls = np.unique(params, axis=0, return_inverse=True)
+        self.cls = self.cls.astype(np.int64).ravel()
+        self.solo = np.full((int(self.cls.max()) + 1 if n else 0, 3), np.nan)
         self.out = np.zeros(6, dtype=np.float64)
 
     def call(self, n_req, ev0, cat_f, cat_i, profiles):
@@ -231,6 +242,8 @@ class _Run:
             self.oms,
             self.cfr,
             self.ctrl,
+            self.cls,
+            self.solo,
             cat_f,
             cat_i,
             self.slip_e,
@@ -467,6 +480,7 @@ def _wrap(
         wall_time_s=wall,
         n_steps=steps,
         block_steps=block_steps,
+        solo_events=int(run.cnt[8]),
     )
     return SimulationResult(
         events=events,

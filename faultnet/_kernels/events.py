@@ -15,6 +15,7 @@ cnt   meaning
 5     1 if the trajectory buffer filled up (recording stopped)
 6     block-steps spent in partial steps (stepping to crossings)
 7     re-locations (an earlier crossing found inside a partial step)
+8     events taken by the free single-block path (no integration)
 ====  =========================================================
 """
 
@@ -389,6 +390,103 @@ def _finish_event(
     return total, nblk
 
 
+#: a neighbour's force must stay this far below 1 for a free single-block slip
+SOLO_MARGIN = 1e-12
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _solo_slip(i, dt, method, max_duration, vmax, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Slip of block i alone: from rest at the threshold, every neighbour held.
+
+    The same steps, crossing location and polish as in an event, with no joins.
+    Such a slip depends only on the block's own parameters (stiffness, sigma,
+    alpha), so it is computed once per parameter class and reused.  Leaves the
+    work arrays as it found them.  Returns (slip, duration, steps, status).
+    """
+    f0 = W[i, F0]
+    W[i, F0] = 1.0
+    IW[ACT, 0] = i
+    IW[APOS, i] = 0
+    IW[FLAG, i] = ACTIVE
+    W[i, V] = 0.0
+    W[i, VN] = 0.0
+    W[i, A] = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
+    t = 0.0
+    n = 0
+    status = STATUS_OK
+    max_steps = 4.0 * max_duration / dt + 10000.0
+    while True:
+        _step(method, dt, 1, IW, W, indptr, indices, kval, diag, oms, cfr)
+        n += 1
+        v1 = W[i, VN]
+        if not (v1 < vmax):
+            status = STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
+            break
+        th = 2.0
+        if v1 <= 0.0 or W[i, A] < 0.0:
+            th = _stick_theta(method, dt, 0, i, W)
+        if th > 1.0:
+            _commit(1, W, IW)
+            t += dt
+        else:
+            if th > 0.0:
+                h = th * dt
+                _step(method, h, 1, IW, W, indptr, indices, kval, diag, oms, cfr)
+                h, npart = _polish(
+                    h, dt, i, _STICK, method, 1, IW, W, indptr, indices, kval, diag, oms, cfr
+                )
+                n += 1 + npart
+                _commit(1, W, IW)
+                t += h
+            break
+        if t > max_duration or n > max_steps:
+            status = STATUS_EVENT_TOO_LONG
+            break
+    s = W[i, D]
+    W[i, D] = 0.0
+    W[i, P] = 0.0
+    W[i, P2] = 0.0
+    W[i, V] = 0.0
+    W[i, VN] = 0.0
+    W[i, F0] = f0
+    IW[FLAG, i] = UNTOUCHED
+    return s, t, n, status
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _solo_free(hyp, s1, w, keys, indptr, indices, kval):
+    """True when slipping s1 alone leaves every neighbour of hyp below threshold.
+
+    The slip is monotone, so a neighbour's force is largest at the end:
+    F_j = 1 + w - key_j + k_ij s1.
+    """
+    for p in range(indptr[hyp], indptr[hyp + 1]):
+        if 1.0 + w - keys[indices[p]] + kval[p] * s1 >= 1.0 - SOLO_MARGIN:
+            return False
+    return True
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _solo_apply(
+    hyp, s1, ev, z, keys, tree, indptr, indices, kval, diag, slip_ev, slip_nd, slip_v, cnt
+):
+    """Commit a free single-block slip: move the block, refresh its and its neighbours' keys."""
+    z[hyp] += s1
+    keys[hyp] = block_key(hyp, z, indptr, indices, kval, diag)
+    tree_update(hyp, keys, tree)
+    for p in range(indptr[hyp], indptr[hyp + 1]):
+        j = indices[p]
+        keys[j] = block_key(j, z, indptr, indices, kval, diag)
+        tree_update(j, keys, tree)
+    if slip_v.shape[0] > 0:
+        row = cnt[1]
+        slip_ev[row] = ev
+        slip_nd[row] = hyp
+        slip_v[row] = s1
+        cnt[1] = row + 1
+    cnt[8] += 1
+
+
 @nb.njit(cache=True, nogil=True, _nrt=False)
 def _one_event(
     ev,
@@ -405,6 +503,8 @@ def _one_event(
     oms,
     cfr,
     ctrl,
+    cls,
+    solo,
     slip_event,
     slip_node,
     slip_val,
@@ -421,11 +521,49 @@ def _one_event(
     dt, max_duration, vmax, method = ctrl[0], ctrl[1], ctrl[2], int(ctrl[3])
     max_steps = 4.0 * max_duration / dt + 10000.0
     hyp = tree[1]
-    if keys[hyp] > scal[1]:
+    # loaded to the threshold (force exactly 1), or already above it (given states)
+    at_threshold = keys[hyp] >= scal[1]
+    if at_threshold:
         scal[1] = keys[hyp]
     w = scal[1]
     out[0] = scal[0] + w
     out[4] = hyp
+    if at_threshold and ctrl[4] > 0.0 and trace_nodes.shape[0] == 0:
+        # free single-block slip: reuse the block class's solo slip when no
+        # neighbour can reach the threshold during it
+        c = cls[hyp]
+        if not (solo[c, 0] == solo[c, 0]):
+            s1, t1, n1, status = _solo_slip(
+                hyp, dt, method, max_duration, vmax, W, IW, indptr, indices, kval, diag, oms, cfr
+            )
+            if status != STATUS_OK:
+                return status
+            solo[c, 0] = s1
+            solo[c, 1] = t1
+            solo[c, 2] = n1
+        s1 = solo[c, 0]
+        if _solo_free(hyp, s1, w, keys, indptr, indices, kval):
+            _solo_apply(
+                hyp,
+                s1,
+                ev,
+                z,
+                keys,
+                tree,
+                indptr,
+                indices,
+                kval,
+                diag,
+                slip_event,
+                slip_node,
+                slip_val,
+                cnt,
+            )
+            out[1] = solo[c, 1]
+            out[2] = s1
+            out[3] = 1
+            out[5] = solo[c, 2]
+            return STATUS_OK
     ntouch = _touch(hyp, w, keys, W, IW, 0)
     nact, ntouch = _activate(hyp, 0, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
     nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
@@ -544,6 +682,8 @@ def run_events(
     oms,
     cfr,
     ctrl,
+    cls,
+    solo,
     cat_f,
     cat_i,
     slip_event,
@@ -581,6 +721,8 @@ def run_events(
             oms,
             cfr,
             ctrl,
+            cls,
+            solo,
             slip_event,
             slip_node,
             slip_val,
