@@ -21,7 +21,7 @@ from faultnet.exceptions import (
     NumericalInstabilityError,
     SimulationError,
 )
-from faultnet.model import CarlsonLanger
+from faultnet.model import CarlsonLanger, SparseGraph
 from faultnet.simulate import default_dt, simulate, slip_event
 from faultnet.state import State
 from faultnet.stats import BFit, fit_b_lsq, fit_b_mle, irregularity, magnitude_distribution
@@ -58,6 +58,7 @@ except PackageNotFoundError:  # running from a source tree
 __all__ = [
     "BFit",
     "CarlsonLanger",
+    "SparseGraph",
     "EventTooLongError",
     "FaultnetError",
     "InvalidParameterError",

@@ -17,6 +17,8 @@ EVENT_COLUMNS = ["event", "t", "duration", "n_blocks", "S", "M", "hypocenter"]
 def node_labels(nodes, idx):
     """Map block indices to graph node labels (integer dtype when labels are ints)."""
     idx = np.asarray(idx, dtype=np.int64)
+    if isinstance(nodes, range):  # SparseGraph models: blocks are 0..n-1
+        return nodes.start + nodes.step * idx
     if all(isinstance(n, (int, np.integer)) and not isinstance(n, bool) for n in nodes):
         return np.asarray(nodes, dtype=np.int64)[idx]
     labels = np.empty(len(nodes), dtype=object)

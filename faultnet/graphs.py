@@ -18,6 +18,7 @@ import numbers
 
 import networkx as nx
 import numpy as np
+import scipy.sparse as sp
 
 __all__ = [
     "chain",
@@ -111,7 +112,7 @@ def _lattice_name(kind, rows, cols, periodic):
     return f"{kind}({rows}, {cols}{suffix})"
 
 
-def square_lattice(rows, cols, periodic=False):
+def square_lattice(rows, cols, periodic=False, sparse=False):
     """Square lattice of ``rows x cols`` blocks with 4-neighbour springs.
 
     Parameters
@@ -120,10 +121,14 @@ def square_lattice(rows, cols, periodic=False):
         Lattice size, each ``>= 1`` (``>= 3`` when ``periodic``).
     periodic : bool, optional
         Wrap both directions (a torus).  Every node then has degree 4.
+    sparse : bool, optional
+        Return a :class:`faultnet.SparseGraph` (the adjacency only, built with
+        numpy in well under a second for 10^6 blocks and ~50 MB) instead of a
+        networkx graph (~1 GB and ~10 s at that size).  Same node numbering.
 
     Returns
     -------
-    networkx.Graph
+    networkx.Graph or SparseGraph
         Node ``r * cols + c`` sits at ``pos = (float(c), float(r))``.  The open
         lattice has ``2*rows*cols - rows - cols`` edges, the periodic one
         ``2*rows*cols``.
@@ -145,7 +150,10 @@ def square_lattice(rows, cols, periodic=False):
             f"periodic square_lattice needs rows >= 3 and cols >= 3, got rows={rows}, "
             f"cols={cols}: wrapping would create duplicate edges or self-loops"
         )
-    G = nx.Graph(name=_lattice_name("square_lattice", rows, cols, periodic))
+    name = _lattice_name("square_lattice", rows, cols, periodic)
+    if sparse:
+        return _square_sparse(rows, cols, periodic, name)
+    G = nx.Graph(name=name)
     for r in range(rows):
         for c in range(cols):
             G.add_node(r * cols + c, pos=(float(c), float(r)))
@@ -157,6 +165,22 @@ def square_lattice(rows, cols, periodic=False):
             if r + 1 < rows or periodic:
                 G.add_edge(node, ((r + 1) % rows) * cols + c)
     return G
+
+
+def _square_sparse(rows, cols, periodic, name):
+    from faultnet.model import SparseGraph
+
+    node = np.arange(rows * cols, dtype=np.int64).reshape(rows, cols)
+    right = np.roll(node, -1, axis=1) if periodic else node[:, 1:]
+    down = np.roll(node, -1, axis=0) if periodic else node[1:, :]
+    a = np.concatenate(
+        [(node if periodic else node[:, :-1]).ravel(), (node if periodic else node[:-1, :]).ravel()]
+    )
+    b = np.concatenate([right.ravel(), down.ravel()])
+    n = rows * cols
+    ones = np.ones(2 * a.size)
+    adj = sp.csr_matrix((ones, (np.concatenate([a, b]), np.concatenate([b, a]))), shape=(n, n))
+    return SparseGraph(adj, name=name)
 
 
 def triangular_lattice(rows, cols, periodic=False):

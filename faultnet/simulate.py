@@ -218,10 +218,8 @@ class _Run:
         self.profiles = np.zeros((profiles_rows, n if profiles_rows else 0), dtype=np.float64)
         self.cnt = np.zeros(9, dtype=np.int64)
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
-        params = np.column_stack([self.diag, self.oms, self.cfr])
-        _, self.cls = np.unique(params, axis=0, return_inverse=True)
-        self.cls = self.cls.astype(np.int64).ravel()
-        self.solo = np.full((int(self.cls.max()) + 1 if n else 0, 3), np.nan)
+        self.cls = model.block_classes
+        self.solo = np.full((int(self.cls.max()) + 1, 3), np.nan)
         self.out = np.zeros(6, dtype=np.float64)
 
     def call(self, n_req, ev0, cat_f, cat_i, profiles):

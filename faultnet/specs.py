@@ -278,12 +278,19 @@ def graph_seed(seq):
     return np.random.SeedSequence(seq.entropy, spawn_key=(*seq.spawn_key, 0))
 
 
-def _lattice(kind, rows, cols, periodic):
-    build = graphs.square_lattice if kind == "square" else graphs.triangular_lattice
-    return build(rows, cols, periodic=periodic)
+#: square lattices with at least this many blocks are built as a
+#: :class:`faultnet.SparseGraph` (a networkx graph costs ~1 kB per node)
+SPARSE_LATTICE_BLOCKS = 250_000
 
 
-def build_graph(spec, rng=None) -> nx.Graph:
+def _lattice(kind, rows, cols, periodic, sparse_ok=False):
+    if kind == "square":
+        sparse = sparse_ok and rows * cols >= SPARSE_LATTICE_BLOCKS
+        return graphs.square_lattice(rows, cols, periodic=periodic, sparse=sparse)
+    return graphs.triangular_lattice(rows, cols, periodic=periodic)
+
+
+def build_graph(spec, rng=None):
     """Build the graph a spec names.
 
     Parameters
@@ -295,8 +302,10 @@ def build_graph(spec, rng=None) -> nx.Graph:
 
     Returns
     -------
-    networkx.Graph
-        ``G.graph["spec"]`` holds the canonical spec.
+    networkx.Graph or SparseGraph
+        ``G.graph["spec"]`` holds the canonical spec.  Square lattices of
+        :data:`SPARSE_LATTICE_BLOCKS` blocks or more come as a
+        :class:`faultnet.SparseGraph`.
     """
     gs = parse_graph_spec(spec)
     try:
@@ -305,7 +314,7 @@ def build_graph(spec, rng=None) -> nx.Graph:
         elif gs.kind == "ring":
             G = graphs.ring(gs.size[0])
         elif gs.kind in ("square", "triangular"):
-            G = _lattice(gs.kind, *gs.size, gs.periodic)
+            G = _lattice(gs.kind, *gs.size, gs.periodic, sparse_ok=True)
         elif gs.kind == "percolation":
             parent = _lattice(gs.lattice, *gs.size, gs.periodic)
             if gs.seed is not None:
@@ -399,9 +408,9 @@ def build_model(spec, *, k=None, sigma=None, alpha=None, rng=None):
     >>> build_model("ring:10", alpha=2.0).alpha
     2.0
     """
-    from faultnet.model import CarlsonLanger
+    from faultnet.model import CarlsonLanger, SparseGraph
 
-    G = spec if isinstance(spec, nx.Graph) else build_graph(spec, rng=rng)
+    G = spec if isinstance(spec, (nx.Graph, SparseGraph)) else build_graph(spec, rng=rng)
     params = {}
     for name, given in (("k", k), ("sigma", sigma), ("alpha", alpha)):
         if given is None:
