@@ -7,9 +7,12 @@ Run by hand (never a timed unit test)::
     python benchmarks/run.py W1 W4      # a subset
 
 Each workload runs in its own subprocess so peak memory (ru_maxrss) is its
-own.  Throughput is measured after a transient, with the kernel already
-compiled; compile times are measured separately (``--compile``) with a cold,
-empty Numba cache directory and with the warm cache.
+own.  Throughput is measured after a transient (from a random state until
+plate time ``--transient-t``, default 2: every block has slipped about twice),
+with the kernel already compiled; compile times are measured separately
+(``--compile``) with a cold, empty Numba cache directory and with the warm
+cache.  ``--scaling`` adds periodic square lattices L = 32 ... 1024 (built as
+:class:`faultnet.SparseGraph`); ``benchmarks/plot_scaling.py`` draws them.
 """
 
 from __future__ import annotations
@@ -48,18 +51,25 @@ def build_graph(wid, size=150):
         return graphs.site_percolation(graphs.triangular_lattice(size, size), 0.5, rng=1)
     if wid.startswith("L"):
         n = int(wid[1:])
-        return graphs.square_lattice(n, n, periodic=True)
+        return graphs.square_lattice(n, n, periodic=True, sparse=True)
     raise SystemExit(f"unknown workload {wid!r}; choose from {sorted(WORKLOADS)}")
 
 
-def measure(wid, alpha, transient, events):
+def measure(wid, alpha, transient_t, events):
     """Run in a child process: transient, then the timed run; print JSON."""
     import faultnet
 
     model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=alpha)
-    warm = faultnet.simulate(model, transient, rng=1, progress=False)
     tic = time.perf_counter()
-    res = faultnet.simulate(model, events, x0=warm, progress=False)
+    warm = faultnet.simulate(model, 1000, rng=1, progress=False)
+    n_trans = 1000
+    while warm.events.t.iloc[-1] < transient_t:
+        chunk = max(1000, min(20 * model.n, 2_000_000))
+        warm = faultnet.simulate(model, chunk, x0=warm.state, progress=False, record_slips=False)
+        n_trans += chunk
+    transient_wall = time.perf_counter() - tic
+    tic = time.perf_counter()
+    res = faultnet.simulate(model, events, x0=warm.state, progress=False, record_slips=False)
     wall = time.perf_counter() - tic
     md = res.metadata
     out = {
@@ -67,12 +77,16 @@ def measure(wid, alpha, transient, events):
         "blocks": model.n,
         "alpha": alpha,
         "events": events,
-        "transient": transient,
+        "transient_events": n_trans,
+        "transient_t": float(warm.events.t.iloc[-1]),
+        "transient_wall_s": transient_wall,
         "wall_s": wall,
         "events_per_s": events / wall,
         "block_steps_per_s": md["block_steps"] / wall,
+        "us_per_event": 1e6 * wall / events,
         "mean_blocks": float(res.events.n_blocks.mean()),
         "steps_per_event": md["n_steps"] / events,
+        "solo_fraction": md["solo_events"] / events,
         "dt": res.dt,
         "peak_rss_mib": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024,
     }
@@ -101,14 +115,17 @@ def main(argv=None):
     ap.add_argument("ids", nargs="*", help="workloads (default: W1..W6)")
     ap.add_argument("--quick", action="store_true", help="10x shorter runs")
     ap.add_argument("--events", type=int, default=None, help="timed events per workload")
+    ap.add_argument(
+        "--transient-t", type=float, default=2.0, help="plate time of the transient (default 2)"
+    )
     ap.add_argument("--compile", action="store_true", help="also measure JIT compile times")
     ap.add_argument("--scaling", action="store_true", help="periodic square L=32..1024 at alpha=1")
     ap.add_argument("--json", help="write the rows as JSON lines to this file")
     ap.add_argument("--child", nargs=4, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        wid, alpha, transient, events = args.child
-        measure(wid, float(alpha), int(transient), int(events))
+        wid, alpha, transient_t, events = args.child
+        measure(wid, float(alpha), float(transient_t), int(events))
         return
     scale = 10 if args.quick else 1
     jobs = [(w, WORKLOADS[w][1], WORKLOADS[w][0]) for w in (args.ids or sorted(WORKLOADS))]
@@ -117,15 +134,22 @@ def main(argv=None):
     rows = []
     header = (
         f"{'id':5} {'workload':46} {'N':>8} {'alpha':>5} {'events/s':>10} "
-        f"{'block-steps/s':>14} {'blocks/ev':>9} {'steps/ev':>8} {'peak MiB':>8}"
+        f"{'block-steps/s':>14} {'blocks/ev':>9} {'steps/ev':>8} {'solo':>5} {'peak MiB':>8}"
     )
     print(header)
     print("-" * len(header))
     for wid, alpha, desc in jobs:
         events = args.events or (200_000 if wid.startswith("W") else 20_000) // scale
-        transient = events // 2
         out = subprocess.check_output(
-            [sys.executable, __file__, "--child", wid, str(alpha), str(transient), str(events)]
+            [
+                sys.executable,
+                __file__,
+                "--child",
+                wid,
+                str(alpha),
+                str(args.transient_t),
+                str(events),
+            ]
         )
         row = json.loads(out.decode().strip().splitlines()[-1])
         row["workload"] = desc
@@ -133,7 +157,8 @@ def main(argv=None):
         print(
             f"{wid:5} {desc:46} {row['blocks']:>8} {alpha:>5} {row['events_per_s']:>10,.0f} "
             f"{row['block_steps_per_s']:>14,.0f} {row['mean_blocks']:>9.2f} "
-            f"{row['steps_per_event']:>8.1f} {row['peak_rss_mib']:>8.0f}",
+            f"{row['steps_per_event']:>8.1f} {row['solo_fraction']:>5.2f} "
+            f"{row['peak_rss_mib']:>8.0f}",
             flush=True,
         )
     if args.compile:

@@ -1,0 +1,58 @@
+"""Draw the scaling series of ``benchmarks/run.py --scaling --json FILE``.
+
+    python benchmarks/run.py --scaling W4 --json /tmp/scaling.jsonl
+    python benchmarks/plot_scaling.py /tmp/scaling.jsonl benchmarks/scaling.png
+
+Left: block-steps per second against the number of blocks N (the cost of one
+slipping block over one integration step; flat means no per-event O(N) work
+and no loss of cache locality).  Right: wall time per event.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("rows", help="JSON lines written by run.py --json")
+    ap.add_argument("png", help="output image")
+    args = ap.parse_args(argv)
+    with open(args.rows) as fh:
+        rows = [json.loads(line) for line in fh if line.strip()]
+    series = sorted((r for r in rows if r["id"].startswith("L")), key=lambda r: r["blocks"])
+    if not series:
+        raise SystemExit("no L* rows (periodic square lattices) in " + args.rows)
+    n = [r["blocks"] for r in series]
+    fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True)
+    a.plot(n, [r["block_steps_per_s"] / 1e6 for r in series], "o-")
+    a.set(
+        xscale="log",
+        xlabel="blocks N (periodic square, alpha = 1)",
+        ylabel="block-steps / s (millions)",
+        ylim=(0, None),
+    )
+    b.plot(n, [r["us_per_event"] for r in series], "o-", color="C1")
+    b.set(xscale="log", xlabel="blocks N", ylabel="wall time per event (us)", ylim=(0, None))
+    for r in series:
+        a.annotate(
+            f"L={int(round(r['blocks'] ** 0.5))}",
+            (r["blocks"], r["block_steps_per_s"] / 1e6),
+            textcoords="offset points",
+            xytext=(0, 6),
+            ha="center",
+            fontsize=7,
+        )
+    fig.suptitle("faultnet scaling (one core, after a transient to plate time 2)", fontsize=10)
+    fig.savefig(args.png, dpi=120)
+    print(f"wrote {args.png}")
+
+
+if __name__ == "__main__":
+    main()
