@@ -4,14 +4,14 @@ The public Python layer (:mod:`faultnet.simulate`) validates input, allocates
 every array, calls these kernels and turns their status codes into exceptions.
 """
 
-from faultnet._kernels.events import (
+from faultnet._kernels.crossing import (
     STATUS_EVENT_TOO_LONG,
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_RUNAWAY,
     STATUS_SLIPS_FULL,
-    run_events,
 )
+from faultnet._kernels.events import run_events
 from faultnet._kernels.tree import build_keys_and_tree
 
 __all__ = [

@@ -23,7 +23,18 @@ import math
 
 import numba as nb
 
-from faultnet._kernels.dopri import KA, KV, dense_coeffs, dopri_step
+from faultnet._kernels.crossing import (
+    JOIN,
+    STATUS_EVENT_TOO_LONG,
+    STATUS_NONFINITE,
+    STATUS_OK,
+    STATUS_RUNAWAY,
+    STATUS_SLIPS_FULL,
+    STICK,
+    earliest_crossing,
+    stick_theta,
+)
+from faultnet._kernels.dopri import dopri_step
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -44,10 +55,6 @@ from faultnet._kernels.integrate import (
     V,
     accel,
     force,
-    hermite_dip,
-    hermite_fall,
-    hermite_root,
-    poly_root,
     rk4_step,
 )
 from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
@@ -62,18 +69,9 @@ __all__ = [
     "run_events",
 ]
 
-STATUS_OK = 0
-STATUS_SLIPS_FULL = 1
-STATUS_NONFINITE = -1
-STATUS_RUNAWAY = -2
-STATUS_EVENT_TOO_LONG = -3
-
 #: the re-centred plate coordinate ``w`` is shifted back by an integer once it
 #: exceeds this, so coordinates stay O(1) however long the run
 RECENTRE_AT = 4.0
-
-_STICK = 1
-_JOIN = 2
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
@@ -145,113 +143,27 @@ def _stick_scan(nact, W, IW):
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
-def _stick_theta(method, h, q, i, W):
-    """Where inside the step block i (active position q) stops; 2.0 if it does not."""
-    v0 = W[i, V]
-    v1 = W[i, VN]
-    if v1 <= 0.0:
-        if v0 > 0.0:
-            if method == 1:
-                c0, c1, c2, c3, c4 = dense_coeffs(
-                    v0,
-                    v1,
-                    h * W[q, KA],
-                    h * W[q, KA + 2],
-                    h * W[q, KA + 3],
-                    h * W[q, KA + 4],
-                    h * W[q, KA + 5],
-                    h * W[i, AN],
-                )
-                return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
-            return hermite_root(0.0, 1.0, v0, h * W[i, A], v1, h * W[i, AN])
-        # joined at rest and stops again within the step
-        return hermite_fall(h * W[i, A], v1, h * W[i, AN])
-    if W[i, A] < 0.0 and W[i, AN] > 0.0:
-        return hermite_dip(v0, h * W[i, A], v1, h * W[i, AN])
-    return 2.0
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
-    """Where inside the step the force on stuck block j reaches 1 (f0 < 1 <= f1)."""
-    if method == 1:
-        g1 = g3 = g4 = g5 = g6 = g7 = 0.0
-        for r in range(indptr[j], indptr[j + 1]):
-            b = indices[r]
-            if IW[FLAG, b] == ACTIVE:
-                c = kval[r]
-                q = IW[APOS, b]
-                g1 += c * W[q, KV]
-                g3 += c * W[q, KV + 2]
-                g4 += c * W[q, KV + 3]
-                g5 += c * W[q, KV + 4]
-                g6 += c * W[q, KV + 5]
-                g7 += c * W[b, VN]
-        c0, c1, c2, c3, c4 = dense_coeffs(
-            f0 - 1.0, f1 - 1.0, h * g1, h * g3, h * g4, h * g5, h * g6, h * g7
-        )
-        return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
-    df0 = 0.0
-    df1 = 0.0
-    for r in range(indptr[j], indptr[j + 1]):
-        df0 += kval[r] * W[indices[r], V]
-        df1 += kval[r] * W[indices[r], VN]
-    return hermite_root(0.0, 1.0, f0 - 1.0, h * df0, f1 - 1.0, h * df1)
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax):
-    """Earliest stick or join inside the step just taken (D,V,A -> DN,VN,AN).
-
-    Returns (theta, block, kind, status): theta in [0, 1] is the fraction of
-    the step, block is -1 when nothing happens inside the step.  With DP5 the
-    crossing is located on the scheme's 4th-order dense output.
-    """
-    best = 2.0
-    who = -1
-    kind = 0
-    for q in range(nact):
-        i = IW[ACT, q]
-        v1 = W[i, VN]
-        if not (v1 < vmax):
-            return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
-        if v1 > 0.0 and W[i, A] >= 0.0:
-            continue
-        th = _stick_theta(method, h, q, i, W)
-        if th < best:
-            best, who, kind = th, i, _STICK
-    for q in range(nact):
-        i = IW[ACT, q]
-        for p in range(indptr[i], indptr[i + 1]):
-            j = indices[p]
-            if IW[FLAG, j] == ACTIVE:
-                continue
-            f1 = force(j, P, W, indptr, indices, kval, diag)
-            if f1 < 1.0:
-                continue
-            f0 = force(j, D, W, indptr, indices, kval, diag)
-            th = (
-                0.0
-                if f0 >= 1.0
-                else _join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval)
-            )
-            if th < best:
-                best, who, kind = th, j, _JOIN
-    return best, who, kind, STATUS_OK
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
 def _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
+    """A step without locating crossings (polish re-steps, solo slips)."""
     if method == 0:
         rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
     else:
-        dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+        dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, False, 0.0)
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _step_scan(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax):
+    """A step and the earliest crossing inside it: (theta, block, kind, status)."""
+    if method == 0:
+        rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+        return earliest_crossing(0, h, nact, W, IW, indptr, indices, kval, diag, vmax)
+    return dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, True, vmax)
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
 def _residual(who, kind, W, indptr, indices, kval, diag):
     """Crossing function and its time derivative at the end of the last step."""
-    if kind == _STICK:
+    if kind == STICK:
         return W[who, VN], W[who, AN]
     dg = 0.0
     for r in range(indptr[who], indptr[who + 1]):
@@ -424,7 +336,7 @@ def _solo_slip(i, dt, method, max_duration, vmax, W, IW, indptr, indices, kval, 
             break
         th = 2.0
         if v1 <= 0.0 or W[i, A] < 0.0:
-            th = _stick_theta(method, dt, 0, i, W)
+            th = stick_theta(method, dt, 0, i, W)
         if th > 1.0:
             _commit(1, W, IW)
             t += dt
@@ -433,7 +345,7 @@ def _solo_slip(i, dt, method, max_duration, vmax, W, IW, indptr, indices, kval, 
                 h = th * dt
                 _step(method, h, 1, IW, W, indptr, indices, kval, diag, oms, cfr)
                 h, npart = _polish(
-                    h, dt, i, _STICK, method, 1, IW, W, indptr, indices, kval, diag, oms, cfr
+                    h, dt, i, STICK, method, 1, IW, W, indptr, indices, kval, diag, oms, cfr
                 )
                 n += 1 + npart
                 _commit(1, W, IW)
@@ -573,9 +485,8 @@ def _one_event(
     t = 0.0
     nsteps = 0
     while nact > 0:
-        _step(method, dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-        th, who, kind, status = _earliest_crossing(
-            method, dt, nact, W, IW, indptr, indices, kval, diag, vmax
+        th, who, kind, status = _step_scan(
+            method, dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax
         )
         if status != STATUS_OK:
             return status
@@ -591,13 +502,12 @@ def _one_event(
                     # step to the located crossing; if another crossing is found
                     # earlier inside that shorter step, go to it instead
                     h = th * h
-                    _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+                    th2, who2, kind2, status = _step_scan(
+                        method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax
+                    )
                     nsteps += 1
                     cnt[4] += nact
                     cnt[6] += nact
-                    th2, who2, kind2, status = _earliest_crossing(
-                        method, h, nact, W, IW, indptr, indices, kval, diag, vmax
-                    )
                     if status != STATUS_OK:
                         return status
                     if who2 < 0 or who2 == who or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
@@ -614,7 +524,7 @@ def _one_event(
                 t += h
             else:
                 _restore_positions(nact, W, IW)
-            if kind == _JOIN and IW[FLAG, who] != ACTIVE:
+            if kind == JOIN and IW[FLAG, who] != ACTIVE:
                 nact, ntouch = _activate(
                     who, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
                 )
@@ -622,7 +532,7 @@ def _one_event(
             nact, ntouch = _join_scan(
                 nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
             )
-            if kind == _STICK and IW[FLAG, who] == ACTIVE:
+            if kind == STICK and IW[FLAG, who] == ACTIVE:
                 nact = _deactivate(who, nact, W, IW)
             nact = _stick_scan(nact, W, IW)
         if tracing:

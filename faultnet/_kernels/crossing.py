@@ -1,0 +1,160 @@
+"""Stops and joins inside a step: where a slipping block stops, where a stuck one starts.
+
+A *stick* is a slipping block whose velocity reaches 0; a *join* is a stuck
+neighbour whose force reaches the static threshold 1.  Both are located as a
+fraction ``theta`` of the step just taken: on the DP5 dense output (4th order,
+method 1) or on a cubic Hermite interpolant of the end values (RK4, method 0,
+and the rare stops of a block that joined at rest or dips below zero).
+"""
+
+import numba as nb
+
+from faultnet._kernels.integrate import (
+    ACT,
+    ACTIVE,
+    AN,
+    APOS,
+    FLAG,
+    VN,
+    A,
+    D,
+    P,
+    V,
+    force,
+    hermite_dip,
+    hermite_fall,
+    hermite_root,
+    poly_root,
+)
+from faultnet._kernels.tableau import KA, KV, dense_coeffs
+
+__all__ = [
+    "JOIN",
+    "STICK",
+    "STATUS_EVENT_TOO_LONG",
+    "STATUS_NONFINITE",
+    "STATUS_OK",
+    "STATUS_RUNAWAY",
+    "STATUS_SLIPS_FULL",
+    "block_crossings",
+    "earliest_crossing",
+    "join_theta",
+    "stick_theta",
+]
+
+STATUS_OK = 0
+STATUS_SLIPS_FULL = 1
+STATUS_NONFINITE = -1
+STATUS_RUNAWAY = -2
+STATUS_EVENT_TOO_LONG = -3
+
+STICK = 1
+JOIN = 2
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def stick_theta(method, h, q, i, W):
+    """Where inside the step block i (active position q) stops; 2.0 if it does not."""
+    v0 = W[i, V]
+    v1 = W[i, VN]
+    if v1 <= 0.0:
+        if v0 > 0.0:
+            if method == 1:
+                c0, c1, c2, c3, c4 = dense_coeffs(
+                    v0,
+                    v1,
+                    h * W[q, KA],
+                    h * W[q, KA + 2],
+                    h * W[q, KA + 3],
+                    h * W[q, KA + 4],
+                    h * W[q, KA + 5],
+                    h * W[i, AN],
+                )
+                return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
+            return hermite_root(0.0, 1.0, v0, h * W[i, A], v1, h * W[i, AN])
+        # joined at rest and stops again within the step
+        return hermite_fall(h * W[i, A], v1, h * W[i, AN])
+    if W[i, A] < 0.0 and W[i, AN] > 0.0:
+        return hermite_dip(v0, h * W[i, A], v1, h * W[i, AN])
+    return 2.0
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
+    """Where inside the step the force on stuck block j reaches 1 (f0 < 1 <= f1)."""
+    if method == 1:
+        g1 = g3 = g4 = g5 = g6 = g7 = 0.0
+        for r in range(indptr[j], indptr[j + 1]):
+            b = indices[r]
+            if IW[FLAG, b] == ACTIVE:
+                c = kval[r]
+                q = IW[APOS, b]
+                g1 += c * W[q, KV]
+                g3 += c * W[q, KV + 2]
+                g4 += c * W[q, KV + 3]
+                g5 += c * W[q, KV + 4]
+                g6 += c * W[q, KV + 5]
+                g7 += c * W[b, VN]
+        c0, c1, c2, c3, c4 = dense_coeffs(
+            f0 - 1.0, f1 - 1.0, h * g1, h * g3, h * g4, h * g5, h * g6, h * g7
+        )
+        return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
+    df0 = 0.0
+    df1 = 0.0
+    for r in range(indptr[j], indptr[j + 1]):
+        df0 += kval[r] * W[indices[r], V]
+        df1 += kval[r] * W[indices[r], VN]
+    return hermite_root(0.0, 1.0, f0 - 1.0, h * df0, f1 - 1.0, h * df1)
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+def block_crossings(
+    method, h, q, i, pos, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
+):
+    """Fold the crossings owned by active block i into (best, who, kind).
+
+    Block i's own stop, and the joins of its stuck neighbours, whose end-of-step
+    forces are read from column ``pos`` (every active block's end position).
+    Returns (best, who, kind, status); a non-finite or runaway velocity stops
+    the scan with its status and the block in ``who``.
+    """
+    v1 = W[i, VN]
+    if not (v1 < vmax):
+        return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
+    if v1 <= 0.0 or W[i, A] < 0.0:
+        th = stick_theta(method, h, q, i, W)
+        if th < best:
+            best, who, kind = th, i, STICK
+    for p in range(indptr[i], indptr[i + 1]):
+        j = indices[p]
+        if IW[FLAG, j] == ACTIVE:
+            continue
+        f1 = force(j, pos, W, indptr, indices, kval, diag)
+        if f1 < 1.0:
+            continue
+        f0 = force(j, D, W, indptr, indices, kval, diag)
+        th = 0.0 if f0 >= 1.0 else join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval)
+        if th < best:
+            best, who, kind = th, j, JOIN
+    return best, who, kind, STATUS_OK
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax):
+    """Earliest stick or join inside the step just taken (D,V,A -> DN,VN,AN).
+
+    Returns (theta, block, kind, status): theta in [0, 1] is the fraction of
+    the step, block is -1 when nothing happens inside the step.  The DP5 step
+    does this scan in its last pass (:func:`faultnet._kernels.dopri.dopri_step`).
+    """
+    best = 2.0
+    who = -1
+    kind = 0
+    for q in range(nact):
+        i = IW[ACT, q]
+        best, who, kind, status = block_crossings(
+            method, h, q, i, P, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
+        )
+        if status != STATUS_OK:
+            return best, who, kind, status
+    return best, who, kind, STATUS_OK
