@@ -522,18 +522,23 @@ def fits(result: dict, window, mle_min=None, bins=20):
 
 
 def hump(result: dict, lo: float, hi: float, width: float = DISPLAY_WIDTH):
-    """Magnitude of the highest P(M) bin inside [lo, hi] (a hump or peak).
+    """Magnitude of the highest local maximum of P(M) inside [lo, hi] (a hump or peak).
 
-    NaN when that bin is the first or last non-empty bin of the window, i.e.
-    when P(M) has no interior maximum there.
+    P(M) is smoothed over three bins (bin-to-bin noise would otherwise make
+    spurious maxima); a local maximum is a bin at least as high as both
+    neighbours.  NaN when P(M) has no interior maximum in the window (it only
+    rises or falls there).
     """
     table = magnitude_table(result, width)
     inside = table[(table["M"] >= lo) & (table["M"] <= hi) & (table["count"] > 0)]
-    if len(inside) < 3:
+    if len(inside) < 5:
         return float("nan")
-    best = int(np.argmax(inside["density"].to_numpy()))
-    if best in (0, len(inside) - 1):
+    d = np.convolve(inside["density"].to_numpy(), np.ones(3) / 3.0, mode="same")
+    k = np.arange(2, len(d) - 2)  # the end bins of the smoothed curve are one-sided
+    peaks = k[(d[k] >= d[k - 1]) & (d[k] >= d[k + 1])]
+    if peaks.size == 0:
         return float("nan")
+    best = peaks[np.argmax(d[peaks])]
     return float(inside["M"].iloc[best])
 
 
