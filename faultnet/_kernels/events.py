@@ -32,7 +32,6 @@ from faultnet._kernels.crossing import (
     STATUS_SLIPS_FULL,
     STICK,
     earliest_crossing,
-    stick_theta,
 )
 from faultnet._kernels.dopri import dopri_step
 from faultnet._kernels.integrate import (
@@ -306,61 +305,80 @@ def _finish_event(
 SOLO_MARGIN = 1e-12
 
 
+#: the starting force that keeps a neighbour out of a solo slip
+_HELD = -1e300
+
+
 @nb.njit(cache=True, nogil=True, _nrt=False)
-def _solo_slip(i, dt, method, max_duration, vmax, W, IW, indptr, indices, kval, diag, oms, cfr):
+def _solo_slip(
+    i,
+    ev,
+    scal,
+    z,
+    keys,
+    W,
+    IW,
+    indptr,
+    indices,
+    kval,
+    diag,
+    oms,
+    cfr,
+    ctrl,
+    trace_nodes,
+    trace_buf,
+    cnt,
+):
     """Slip of block i alone: from rest at the threshold, every neighbour held.
 
-    The same steps, crossing location and polish as in an event, with no joins.
-    Such a slip depends only on the block's own parameters (stiffness, sigma,
-    alpha), so it is computed once per parameter class and reused.  Leaves the
-    work arrays as it found them.  Returns (slip, duration, steps, status).
+    Integrated by the event loop itself (:func:`_integrate`), with the
+    neighbours' starting forces set to -1e300 so that none can join (starting
+    forces are written afresh whenever a block is touched).  Such a slip
+    depends only on the block's own parameters (stiffness, sigma, alpha), so
+    it is computed once per parameter class and reused.  Leaves the work
+    arrays as it found them.  Returns (slip, duration, steps, status).
     """
-    f0 = W[i, F0]
+    for p in range(indptr[i], indptr[i + 1]):
+        W[indices[p], F0] = _HELD
     W[i, F0] = 1.0
     IW[ACT, 0] = i
     IW[APOS, i] = 0
     IW[FLAG, i] = ACTIVE
+    IW[TOUCH, 0] = i
     W[i, V] = 0.0
     W[i, VN] = 0.0
     W[i, A] = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
-    t = 0.0
-    n = 0
-    status = STATUS_OK
-    max_steps = 4.0 * max_duration / dt + 10000.0
-    while True:
-        _step(method, dt, 1, IW, W, indptr, indices, kval, diag, oms, cfr)
-        n += 1
-        v1 = W[i, VN]
-        if not (v1 < vmax):
-            status = STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
-            break
-        th = 2.0
-        if v1 <= 0.0 or W[i, A] < 0.0:
-            th = stick_theta(method, dt, 0, i, W)
-        if th > 1.0:
-            _commit(1, W, IW)
-            t += dt
-        else:
-            if th > 0.0:
-                h = th * dt
-                _step(method, h, 1, IW, W, indptr, indices, kval, diag, oms, cfr)
-                h, npart = _polish(
-                    h, dt, i, STICK, method, 1, IW, W, indptr, indices, kval, diag, oms, cfr
-                )
-                n += 1 + npart
-                _commit(1, W, IW)
-                t += h
-            break
-        if t > max_duration or n > max_steps:
-            status = STATUS_EVENT_TOO_LONG
-            break
+    # work counters: a cached solo slip is set-up, not part of any event (so
+    # a run's counters do not depend on how it was cut into calls)
+    c4, c6, c7 = cnt[4], cnt[6], cnt[7]
+    status, t, n, _ = _integrate(
+        ev,
+        1,
+        1,
+        0.0,
+        keys,
+        scal,
+        z,
+        W,
+        IW,
+        indptr,
+        indices,
+        kval,
+        diag,
+        oms,
+        cfr,
+        ctrl,
+        trace_nodes,
+        trace_buf,
+        cnt,
+    )
+    cnt[4], cnt[6], cnt[7] = c4, c6, c7
     s = W[i, D]
     W[i, D] = 0.0
     W[i, P] = 0.0
     W[i, P2] = 0.0
     W[i, V] = 0.0
     W[i, VN] = 0.0
-    W[i, F0] = f0
     IW[FLAG, i] = UNTOUCHED
     return s, t, n, status
 
@@ -400,6 +418,97 @@ def _solo_apply(
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
+def _integrate(
+    ev,
+    nact,
+    ntouch,
+    w,
+    keys,
+    scal,
+    z,
+    W,
+    IW,
+    indptr,
+    indices,
+    kval,
+    diag,
+    oms,
+    cfr,
+    ctrl,
+    trace_nodes,
+    trace_buf,
+    cnt,
+):
+    """Integrate the active blocks until every block has stopped.
+
+    Full steps; a crossing found inside a step is reached by a partial step
+    and polished to round-off, then blocks join or stop.  Returns (status,
+    duration, steps, ntouch).
+    """
+    dt, max_duration, vmax, method = ctrl[0], ctrl[1], ctrl[2], int(ctrl[3])
+    max_steps = 4.0 * max_duration / dt + 10000.0
+    tracing = trace_nodes.shape[0] > 0
+    t = 0.0
+    nsteps = 0
+    while nact > 0:
+        th, who, kind, status = _step_scan(
+            method, dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax
+        )
+        if status != STATUS_OK:
+            return status, t, nsteps, ntouch
+        nsteps += 1
+        cnt[4] += nact
+        if who < 0:
+            _commit(nact, W, IW)
+            t += dt
+        else:
+            if th > 0.0:
+                h = dt
+                for _ in range(64):
+                    # step to the located crossing; if another crossing is found
+                    # earlier inside that shorter step, go to it instead
+                    h = th * h
+                    th2, who2, kind2, status = _step_scan(
+                        method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax
+                    )
+                    nsteps += 1
+                    cnt[4] += nact
+                    cnt[6] += nact
+                    if status != STATUS_OK:
+                        return status, t, nsteps, ntouch
+                    if who2 < 0 or who2 == who or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
+                        break
+                    th, who, kind = th2, who2, kind2
+                    cnt[7] += 1
+                h, npart = _polish(
+                    h, dt, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr
+                )
+                nsteps += npart
+                cnt[4] += npart * nact
+                cnt[6] += npart * nact
+                _commit(nact, W, IW)
+                t += h
+            else:
+                _restore_positions(nact, W, IW)
+            if kind == JOIN and IW[FLAG, who] != ACTIVE:
+                nact, ntouch = _activate(
+                    who, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+                )
+            # joins first: the neighbours of a block that sticks now are scanned too
+            nact, ntouch = _join_scan(
+                nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+            )
+            if kind == STICK and IW[FLAG, who] == ACTIVE:
+                nact = _deactivate(who, nact, W, IW)
+            nact = _stick_scan(nact, W, IW)
+        if tracing:
+            _record_trace(ev, t, scal[0], z, W, trace_nodes, trace_buf, cnt)
+        if t > max_duration or nsteps > max_steps:
+            return STATUS_EVENT_TOO_LONG, t, nsteps, ntouch
+    return STATUS_OK, t, nsteps, ntouch
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
 def _one_event(
     ev,
     z,
@@ -430,8 +539,6 @@ def _one_event(
     ``out`` receives (t_start, duration, S, n_blocks, hypocenter, n_steps).
     Returns a status code.
     """
-    dt, max_duration, vmax, method = ctrl[0], ctrl[1], ctrl[2], int(ctrl[3])
-    max_steps = 4.0 * max_duration / dt + 10000.0
     hyp = tree[1]
     # loaded to the threshold (force exactly 1), or already above it (given states)
     at_threshold = keys[hyp] >= scal[1]
@@ -446,7 +553,23 @@ def _one_event(
         c = cls[hyp]
         if not (solo[c, 0] == solo[c, 0]):
             s1, t1, n1, status = _solo_slip(
-                hyp, dt, method, max_duration, vmax, W, IW, indptr, indices, kval, diag, oms, cfr
+                hyp,
+                ev,
+                scal,
+                z,
+                keys,
+                W,
+                IW,
+                indptr,
+                indices,
+                kval,
+                diag,
+                oms,
+                cfr,
+                ctrl,
+                trace_nodes,
+                trace_buf,
+                cnt,
             )
             if status != STATUS_OK:
                 return status
@@ -482,63 +605,29 @@ def _one_event(
     tracing = trace_nodes.shape[0] > 0
     if tracing:
         _record_trace(ev, 0.0, scal[0], z, W, trace_nodes, trace_buf, cnt)
-    t = 0.0
-    nsteps = 0
-    while nact > 0:
-        th, who, kind, status = _step_scan(
-            method, dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax
-        )
-        if status != STATUS_OK:
-            return status
-        nsteps += 1
-        cnt[4] += nact
-        if who < 0:
-            _commit(nact, W, IW)
-            t += dt
-        else:
-            if th > 0.0:
-                h = dt
-                for _ in range(64):
-                    # step to the located crossing; if another crossing is found
-                    # earlier inside that shorter step, go to it instead
-                    h = th * h
-                    th2, who2, kind2, status = _step_scan(
-                        method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax
-                    )
-                    nsteps += 1
-                    cnt[4] += nact
-                    cnt[6] += nact
-                    if status != STATUS_OK:
-                        return status
-                    if who2 < 0 or who2 == who or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
-                        break
-                    th, who, kind = th2, who2, kind2
-                    cnt[7] += 1
-                h, npart = _polish(
-                    h, dt, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr
-                )
-                nsteps += npart
-                cnt[4] += npart * nact
-                cnt[6] += npart * nact
-                _commit(nact, W, IW)
-                t += h
-            else:
-                _restore_positions(nact, W, IW)
-            if kind == JOIN and IW[FLAG, who] != ACTIVE:
-                nact, ntouch = _activate(
-                    who, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-                )
-            # joins first: the neighbours of a block that sticks now are scanned too
-            nact, ntouch = _join_scan(
-                nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-            )
-            if kind == STICK and IW[FLAG, who] == ACTIVE:
-                nact = _deactivate(who, nact, W, IW)
-            nact = _stick_scan(nact, W, IW)
-        if tracing:
-            _record_trace(ev, t, scal[0], z, W, trace_nodes, trace_buf, cnt)
-        if t > max_duration or nsteps > max_steps:
-            return STATUS_EVENT_TOO_LONG
+    status, t, nsteps, ntouch = _integrate(
+        ev,
+        nact,
+        ntouch,
+        w,
+        keys,
+        scal,
+        z,
+        W,
+        IW,
+        indptr,
+        indices,
+        kval,
+        diag,
+        oms,
+        cfr,
+        ctrl,
+        trace_nodes,
+        trace_buf,
+        cnt,
+    )
+    if status != STATUS_OK:
+        return status
     total, nblk = _finish_event(
         ntouch,
         ev,
