@@ -120,6 +120,7 @@ def main(argv=None):
     )
     ap.add_argument("--compile", action="store_true", help="also measure JIT compile times")
     ap.add_argument("--scaling", action="store_true", help="periodic square L=32..1024 at alpha=1")
+    ap.add_argument("--scaling-only", action="store_true", help="the scaling series alone")
     ap.add_argument("--json", help="write the rows as JSON lines to this file")
     ap.add_argument("--child", nargs=4, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
@@ -128,9 +129,11 @@ def main(argv=None):
         measure(wid, float(alpha), float(transient_t), int(events))
         return
     scale = 10 if args.quick else 1
-    jobs = [(w, WORKLOADS[w][1], WORKLOADS[w][0]) for w in (args.ids or sorted(WORKLOADS))]
-    if args.scaling:
-        jobs += [(f"L{n}", 1.0, f"periodic square {n}x{n}") for n in (32, 64, 128, 256, 512, 1024)]
+    ids = args.ids or ([] if args.scaling_only else sorted(WORKLOADS))
+    jobs = [(w, WORKLOADS[w][1], WORKLOADS[w][0]) for w in ids]
+    if args.scaling or args.scaling_only:
+        sizes = (32, 64, 128, 150, 256, 512, 1024)
+        jobs += [(f"L{n}", 1.0, f"periodic square {n}x{n}") for n in sizes]
     rows = []
     header = (
         f"{'id':5} {'workload':46} {'N':>8} {'alpha':>5} {'events/s':>10} "
