@@ -26,6 +26,8 @@ import sys
 import tempfile
 import time
 
+import numpy as np
+
 K, SIGMA = 16.0, 0.01
 
 WORKLOADS = {
@@ -55,21 +57,49 @@ def build_graph(wid, size=150):
     raise SystemExit(f"unknown workload {wid!r}; choose from {sorted(WORKLOADS)}")
 
 
-def measure(wid, alpha, transient_t, events):
-    """Run in a child process: transient, then the timed run; print JSON."""
+def _warm_state(model, transient_t):
+    """Random start, then events until plate time ``transient_t``; (state, events, wall)."""
     import faultnet
 
-    model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=alpha)
     tic = time.perf_counter()
     warm = faultnet.simulate(model, 1000, rng=1, progress=False)
     n_trans = 1000
     while warm.events.t.iloc[-1] < transient_t:
-        chunk = max(1000, min(20 * model.n, 2_000_000))
+        chunk = max(1000, model.n)  # about one event per block: small overshoot of the time
         warm = faultnet.simulate(model, chunk, x0=warm.state, progress=False, record_slips=False)
         n_trans += chunk
-    transient_wall = time.perf_counter() - tic
+    return warm.state, n_trans, float(warm.events.t.iloc[-1]), time.perf_counter() - tic
+
+
+def _tiled_state(base_l, n, transient_t):
+    """A steady state of the periodic base_l lattice, tiled to n x n (n a multiple of base_l).
+
+    A periodic lattice's state tiles exactly (forces match across the seams), so the big
+    lattice starts in the same correlated regime as the small one without the transient,
+    which grows like N (hours at 1024^2).  Equal tiles have equal failure keys, so each
+    event of the base repeats in every tile: the event mix is the base's, which makes
+    block-steps/s comparable across sizes.
+    """
+    import faultnet
+
+    base = faultnet.CarlsonLanger(build_graph(f"L{base_l}"), k=K, sigma=SIGMA, alpha=1.0)
+    st, n_trans, t_end, wall = _warm_state(base, transient_t)
+    x = np.tile(st.x.reshape(base_l, base_l), (n // base_l, n // base_l)).ravel()
+    return faultnet.State.from_x(x, st.offset + st.w), n_trans, t_end, wall
+
+
+def measure(wid, alpha, transient_t, events, tile_from=0):
+    """Run in a child process: transient, then the timed run; print JSON."""
+    import faultnet
+
+    model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=alpha)
+    n = int(wid[1:]) if wid.startswith("L") else 0
+    if tile_from and n >= tile_from and n % tile_from == 0:
+        start, n_trans, t_end, transient_wall = _tiled_state(tile_from, n, transient_t)
+    else:
+        start, n_trans, t_end, transient_wall = _warm_state(model, transient_t)
     tic = time.perf_counter()
-    res = faultnet.simulate(model, events, x0=warm.state, progress=False, record_slips=False)
+    res = faultnet.simulate(model, events, x0=start, progress=False, record_slips=False)
     wall = time.perf_counter() - tic
     md = res.metadata
     out = {
@@ -78,8 +108,9 @@ def measure(wid, alpha, transient_t, events):
         "alpha": alpha,
         "events": events,
         "transient_events": n_trans,
-        "transient_t": float(warm.events.t.iloc[-1]),
+        "transient_t": t_end,
         "transient_wall_s": transient_wall,
+        "tiled_from": tile_from if (tile_from and n >= tile_from) else 0,
         "wall_s": wall,
         "events_per_s": events / wall,
         "block_steps_per_s": md["block_steps"] / wall,
@@ -121,18 +152,27 @@ def main(argv=None):
     ap.add_argument("--compile", action="store_true", help="also measure JIT compile times")
     ap.add_argument("--scaling", action="store_true", help="periodic square L=32..1024 at alpha=1")
     ap.add_argument("--scaling-only", action="store_true", help="the scaling series alone")
+    ap.add_argument("--sizes", help="comma-separated L of the scaling series (default 32..1024)")
+    ap.add_argument(
+        "--tile-from",
+        type=int,
+        default=128,
+        help="scaling series: start L = m * this from its steady state, tiled (0: own transient)",
+    )
     ap.add_argument("--json", help="write the rows as JSON lines to this file")
-    ap.add_argument("--child", nargs=4, help=argparse.SUPPRESS)
+    ap.add_argument("--child", nargs=5, help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        wid, alpha, transient_t, events = args.child
-        measure(wid, float(alpha), float(transient_t), int(events))
+        wid, alpha, transient_t, events, tile = args.child
+        measure(wid, float(alpha), float(transient_t), int(events), int(tile))
         return
     scale = 10 if args.quick else 1
     ids = args.ids or ([] if args.scaling_only else sorted(WORKLOADS))
     jobs = [(w, WORKLOADS[w][1], WORKLOADS[w][0]) for w in ids]
     if args.scaling or args.scaling_only:
         sizes = (32, 64, 128, 150, 256, 512, 1024)
+        if args.sizes:
+            sizes = tuple(int(x) for x in args.sizes.split(","))
         jobs += [(f"L{n}", 1.0, f"periodic square {n}x{n}") for n in sizes]
     rows = []
     header = (
@@ -152,6 +192,7 @@ def main(argv=None):
                 str(alpha),
                 str(args.transient_t),
                 str(events),
+                str(args.tile_from if wid.startswith("L") else 0),
             ]
         )
         row = json.loads(out.decode().strip().splitlines()[-1])
