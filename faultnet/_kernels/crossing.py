@@ -8,6 +8,7 @@ and the rare stops of a block that joined at rest or dips below zero).
 """
 
 import numba as nb
+import numpy as np
 
 from faultnet._kernels.integrate import (
     ACT,
@@ -148,8 +149,8 @@ def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax)
     does this scan in its last pass (:func:`faultnet._kernels.dopri.dopri_step`).
     """
     best = 2.0
-    who = -1
-    kind = 0
+    who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
+    kind = np.int64(0)
     for q in range(nact):
         i = IW[ACT, q]
         best, who, kind, status = block_crossings(

@@ -12,6 +12,7 @@ first-same-as-last evaluation is the next step's A), see benchmarks/NOTES.md.
 """
 
 import numba as nb
+import numpy as np
 
 from faultnet._kernels.crossing import STATUS_OK, block_crossings
 from faultnet._kernels.integrate import ACT, AN, DN, P2, VN, A, D, P, V, accel, force
@@ -133,8 +134,8 @@ def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax
         W[i, VN] = W[i, V] + h * dv
         W[i, P2] = dn
     best = 2.0
-    who = -1
-    kind = 0
+    who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
+    kind = np.int64(0)
     for q in range(nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]

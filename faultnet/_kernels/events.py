@@ -22,6 +22,7 @@ cnt   meaning
 import math
 
 import numba as nb
+import numpy as np
 
 from faultnet._kernels.crossing import (
     JOIN,
@@ -147,7 +148,7 @@ def _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     if method == 0:
         rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
     else:
-        dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, False, 0.0)
+        dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(0), 0.0)
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
@@ -155,8 +156,8 @@ def _step_scan(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vm
     """A step and the earliest crossing inside it: (theta, block, kind, status)."""
     if method == 0:
         rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-        return earliest_crossing(0, h, nact, W, IW, indptr, indices, kval, diag, vmax)
-    return dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, True, vmax)
+        return earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax)
+    return dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(1), vmax)
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
@@ -351,10 +352,11 @@ def _solo_slip(
     # work counters: a cached solo slip is set-up, not part of any event (so
     # a run's counters do not depend on how it was cut into calls)
     c4, c6, c7 = cnt[4], cnt[6], cnt[7]
+    one = np.int64(1)  # not the literal 1: _integrate keeps one compiled signature
     status, t, n, _ = _integrate(
         ev,
-        1,
-        1,
+        one,
+        one,
         0.0,
         keys,
         scal,
@@ -599,8 +601,11 @@ def _one_event(
             out[3] = 1
             out[5] = solo[c, 2]
             return STATUS_OK
-    ntouch = _touch(hyp, w, keys, W, IW, 0)
-    nact, ntouch = _activate(hyp, 0, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
+    zero = np.int64(0)  # not literals: one compiled signature per kernel
+    ntouch = _touch(hyp, w, keys, W, IW, zero)
+    nact, ntouch = _activate(
+        hyp, zero, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+    )
     nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
     tracing = trace_nodes.shape[0] > 0
     if tracing:
