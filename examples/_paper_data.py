@@ -193,6 +193,22 @@ def load_result(path: Path) -> tuple[dict, dict]:
     return result, provenance
 
 
+def _git_commit(where: Path):
+    """Commit of the faultnet checkout that computes (``+dirty`` with local changes), or None."""
+    import subprocess
+
+    try:
+        head = subprocess.run(
+            ["git", "rev-parse", "HEAD"], cwd=where, capture_output=True, text=True, check=True
+        ).stdout.strip()
+        dirty = subprocess.run(
+            ["git", "status", "--porcelain", "--", "."], cwd=where, capture_output=True, text=True
+        ).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return None
+    return head + ("+dirty" if dirty else "")
+
+
 def load_or_run(name: str, builder, params: dict, *, store: bool = True, verbose: bool = True):
     """Reload ``<data_dir>/<name>.npz`` if it holds ``builder(**params)``, else compute it.
 
@@ -240,6 +256,7 @@ def load_or_run(name: str, builder, params: dict, *, store: bool = True, verbose
         "builder": builder.__name__,
         "params": params,
         "faultnet_version": faultnet.__version__,
+        "git_commit": _git_commit(Path(faultnet.__file__).parent),
         "command": " ".join([Path(sys.executable).name, *sys.argv]),
         "wall_time_s": wall,
         "date": time.strftime("%Y-%m-%d %H:%M:%S %z"),
