@@ -93,8 +93,11 @@ class SimulationResult:
     metadata : dict
         Parameters, dt, seed (SeedSequence entropy and spawn key), versions,
         wall time and work counters: ``n_steps`` and ``block_steps`` (work
-        actually done in this call) and ``solo_events`` (events taken from a
-        cached solo slip, which cost no integration).
+        actually done in this call), ``solo_events`` (events taken from a
+        cached solo slip, which cost no integration), ``local_steps`` (steps
+        whose crossings were handled in local regions, see
+        ``simulate.LOCAL_REGIONS_FROM``) and ``local_fallbacks`` (such steps
+        handed back to the whole-event treatment).
     """
 
     events: pd.DataFrame

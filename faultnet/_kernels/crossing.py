@@ -81,8 +81,13 @@ def stick_theta(method, h, q, i, W):
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
-def join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
-    """Where inside the step the force on stuck block j reaches 1 (f0 < 1 <= f1)."""
+def join_theta(method, h, q0, j, f0, f1, W, IW, indptr, indices, kval):
+    """Where inside the step the force on stuck block j reaches 1 (f0 < 1 <= f1).
+
+    Inside a local region (``q0 > 0``) a block next to a slipping block outside
+    the region returns 0.0: the region must grow (its neighbour's motion is not
+    integrated with the region's steps).
+    """
     if method == 1:
         g1 = g3 = g4 = g5 = g6 = g7 = 0.0
         for r in range(indptr[j], indptr[j + 1]):
@@ -90,6 +95,8 @@ def join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
             if IW[FLAG, b] == ACTIVE:
                 c = kval[r]
                 q = IW[APOS, b]
+                if q < q0:
+                    return 0.0
                 g1 += c * W[q, KV]
                 g3 += c * W[q, KV + 2]
                 g4 += c * W[q, KV + 3]
@@ -110,7 +117,7 @@ def join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval):
 
 @nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def block_crossings(
-    method, h, q, i, pos, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
+    method, h, q0, q, i, pos, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
 ):
     """Fold the crossings owned by active block i into (best, who, kind).
 
@@ -134,7 +141,9 @@ def block_crossings(
         if f1 < 1.0:
             continue
         f0 = force(j, D, W, indptr, indices, kval, diag)
-        th = 0.0 if f0 >= 1.0 else join_theta(method, h, j, f0, f1, W, IW, indptr, indices, kval)
+        th = (
+            0.0 if f0 >= 1.0 else join_theta(method, h, q0, j, f0, f1, W, IW, indptr, indices, kval)
+        )
         if th < best:
             best, who, kind = th, j, JOIN
     return best, who, kind, STATUS_OK
@@ -154,7 +163,22 @@ def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax)
     for q in range(nact):
         i = IW[ACT, q]
         best, who, kind, status = block_crossings(
-            method, h, q, i, P, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
+            method,
+            h,
+            kind - kind,
+            q,
+            i,
+            P,
+            vmax,
+            best,
+            who,
+            kind,
+            W,
+            IW,
+            indptr,
+            indices,
+            kval,
+            diag,
         )
         if status != STATUS_OK:
             return best, who, kind, status

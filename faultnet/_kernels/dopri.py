@@ -15,7 +15,7 @@ import numba as nb
 import numpy as np
 
 from faultnet._kernels.crossing import STATUS_OK, block_crossings
-from faultnet._kernels.integrate import ACT, AN, DN, P2, VN, A, D, P, V, accel, force
+from faultnet._kernels.integrate import ACT, AN, APOS, BND, DN, P2, VN, A, D, P, V, accel, force
 from faultnet._kernels.tableau import (
     _A21,
     _A31,
@@ -43,7 +43,33 @@ from faultnet._kernels.tableau import (
     dense_coeffs,
 )
 
-__all__ = ["KA", "KV", "N_WORK_DOPRI", "dense_coeffs", "dopri_step"]
+__all__ = ["KA", "KV", "N_WORK_DOPRI", "boundary_positions", "dense_coeffs", "dopri_step"]
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def boundary_positions(col, th, W, IW, loc):
+    """Write the boundary blocks' positions at fraction ``th`` of the outer step to ``col``.
+
+    The boundary of a local region (``IW[BND, loc[0]:loc[1]]``) are slipping
+    blocks outside it; they follow the DP5 dense output of the outer step of
+    length ``loc[3]``, whose stage derivatives are in their outer slot
+    ``IW[APOS, b]``.
+    """
+    hh = loc[3]
+    for r in range(int(loc[0]), int(loc[1])):
+        b = IW[BND, r]
+        qo = IW[APOS, b]
+        c0, c1, c2, c3, c4 = dense_coeffs(
+            W[b, D],
+            W[b, DN],
+            hh * W[qo, KV],
+            hh * W[qo, KV + 2],
+            hh * W[qo, KV + 3],
+            hh * W[qo, KV + 4],
+            hh * W[qo, KV + 5],
+            hh * W[b, VN],
+        )
+        W[b, col] = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
@@ -56,8 +82,8 @@ def _acc(i, pos, v, W, indptr, indices, kval, diag, oms, cfr):
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
-def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax):
-    """One Dormand-Prince 5(4) step of length ``h`` for the active blocks.
+def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax, loc):
+    """One Dormand-Prince 5(4) step of length ``h`` for the active blocks ``q0 <= q < nact``.
 
     Stage s reads positions from one of the columns P, P2 and writes the inputs
     of stage s + 1 to the other, which no block reads during that pass.  With
@@ -65,8 +91,15 @@ def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax
     the earliest stop or join inside the step, as
     :func:`faultnet._kernels.crossing.earliest_crossing` would, and returns
     (theta, block, kind, status); otherwise (2.0, -1, 0, STATUS_OK).
+
+    Inside a local region (``loc[1] > loc[0]``) the boundary blocks' positions
+    are written at each stage time from the outer step's dense output; the
+    step starts at fraction ``loc[2]`` of that outer step.
     """
-    for q in range(nact):
+    bnd = loc[1] > loc[0]
+    th0 = loc[2]
+    hr = h / loc[3] if bnd else 0.0
+    for q in range(q0, nact):
         i = IW[ACT, q]
         v = W[i, V]
         a = W[i, A]
@@ -74,21 +107,27 @@ def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax
         W[q, KA] = a
         W[i, P] = W[i, D] + h * _A21 * v
         W[q, KV + 1] = v + h * _A21 * a
-    for q in range(nact):
+    if bnd:
+        boundary_positions(P, th0 + 0.2 * hr, W, IW, loc)
+    for q in range(q0, nact):
         i = IW[ACT, q]
         v2 = W[q, KV + 1]
         a2 = _acc(i, P, v2, W, indptr, indices, kval, diag, oms, cfr)
         W[q, KA + 1] = a2
         W[i, P2] = W[i, D] + h * (_A31 * W[q, KV] + _A32 * v2)
         W[q, KV + 2] = W[i, V] + h * (_A31 * W[q, KA] + _A32 * a2)
-    for q in range(nact):
+    if bnd:
+        boundary_positions(P2, th0 + 0.3 * hr, W, IW, loc)
+    for q in range(q0, nact):
         i = IW[ACT, q]
         v3 = W[q, KV + 2]
         a3 = _acc(i, P2, v3, W, indptr, indices, kval, diag, oms, cfr)
         W[q, KA + 2] = a3
         W[i, P] = W[i, D] + h * (_A41 * W[q, KV] + _A42 * W[q, KV + 1] + _A43 * v3)
         W[q, KV + 3] = W[i, V] + h * (_A41 * W[q, KA] + _A42 * W[q, KA + 1] + _A43 * a3)
-    for q in range(nact):
+    if bnd:
+        boundary_positions(P, th0 + 0.8 * hr, W, IW, loc)
+    for q in range(q0, nact):
         i = IW[ACT, q]
         v4 = W[q, KV + 3]
         a4 = _acc(i, P, v4, W, indptr, indices, kval, diag, oms, cfr)
@@ -97,7 +136,9 @@ def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax
         dv = _A51 * W[q, KA] + _A52 * W[q, KA + 1] + _A53 * W[q, KA + 2] + _A54 * a4
         W[i, P2] = W[i, D] + h * dp
         W[q, KV + 4] = W[i, V] + h * dv
-    for q in range(nact):
+    if bnd:
+        boundary_positions(P2, th0 + 8.0 / 9.0 * hr, W, IW, loc)
+    for q in range(q0, nact):
         i = IW[ACT, q]
         v5 = W[q, KV + 4]
         a5 = _acc(i, P2, v5, W, indptr, indices, kval, diag, oms, cfr)
@@ -118,7 +159,9 @@ def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax
         )
         W[i, P] = W[i, D] + h * dp
         W[q, KV + 5] = W[i, V] + h * dv
-    for q in range(nact):
+    if bnd:
+        boundary_positions(P, th0 + 1.0 * hr, W, IW, loc)
+    for q in range(q0, nact):
         i = IW[ACT, q]
         v6 = W[q, KV + 5]
         a6 = _acc(i, P, v6, W, indptr, indices, kval, diag, oms, cfr)
@@ -136,14 +179,16 @@ def dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax
     best = 2.0
     who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
     kind = np.int64(0)
-    for q in range(nact):
+    if bnd:
+        boundary_positions(P2, th0 + 1.0 * hr, W, IW, loc)
+    for q in range(q0, nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]
         W[i, AN] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)
         if scan:
             # P2 holds every active block's end position (P is being updated)
             best, who, kind, status = block_crossings(
-                1, h, q, i, P2, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
+                1, h, q0, q, i, P2, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
             )
             if status != STATUS_OK:
                 return best, who, kind, status

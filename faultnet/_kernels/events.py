@@ -16,6 +16,9 @@ cnt   meaning
 6     block-steps spent in partial steps (stepping to crossings)
 7     re-locations (an earlier crossing found inside a partial step)
 8     events taken by the free single-block path (no integration)
+9     steps whose crossings were handled in local regions
+10    local steps that fell back to the whole-event treatment
+11    id counter of local regions (never reset)
 ====  =========================================================
 """
 
@@ -25,25 +28,18 @@ import numba as nb
 import numpy as np
 
 from faultnet._kernels.crossing import (
-    JOIN,
     STATUS_EVENT_TOO_LONG,
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_RUNAWAY,
     STATUS_SLIPS_FULL,
-    STICK,
-    earliest_crossing,
 )
-from faultnet._kernels.dopri import dopri_step
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
-    AN,
     APOS,
-    DN,
     F0,
     FLAG,
-    FRONTIER,
     P2,
     STUCK,
     TOUCH,
@@ -54,8 +50,16 @@ from faultnet._kernels.integrate import (
     P,
     V,
     accel,
-    force,
-    rk4_step,
+)
+from faultnet._kernels.local import local_step
+from faultnet._kernels.stepping import (
+    activate,
+    apply_crossing,
+    commit,
+    join_scan,
+    step_scan,
+    to_crossing,
+    touch,
 )
 from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
 
@@ -69,174 +73,15 @@ __all__ = [
     "run_events",
 ]
 
+#: with local regions, the outer step is halved while a step holds more
+#: crossings than this (down to _LOCAL_MIN_STEP * dt) and doubled while it
+#: holds fewer than half as many
+_LOCAL_CROSSINGS = 8
+_LOCAL_MIN_STEP = 1.0 / 16.0
+
 #: the re-centred plate coordinate ``w`` is shifted back by an integer once it
 #: exceeds this, so coordinates stay O(1) however long the run
 RECENTRE_AT = 4.0
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _touch(j, w, keys, W, IW, ntouch):
-    """Mark block j touched and store its force at the start of the event."""
-    IW[FLAG, j] = FRONTIER
-    W[j, F0] = 1.0 + w - keys[j]
-    IW[TOUCH, ntouch] = j
-    return ntouch + 1
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
-    """Block j starts to slip from rest; its neighbours become touched."""
-    IW[FLAG, j] = ACTIVE
-    IW[ACT, nact] = j
-    IW[APOS, j] = nact
-    W[j, V] = 0.0
-    W[j, VN] = 0.0
-    for p in range(indptr[j], indptr[j + 1]):
-        nb_ = indices[p]
-        if IW[FLAG, nb_] == UNTOUCHED:
-            ntouch = _touch(nb_, w, keys, W, IW, ntouch)
-    W[j, A] = accel(j, P, V, W, indptr, indices, kval, diag, oms, cfr)
-    return nact + 1, ntouch
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _deactivate(i, nact, W, IW):
-    """Block i sticks (v = 0); swap-remove it from the active list."""
-    q = IW[APOS, i]
-    last = IW[ACT, nact - 1]
-    IW[ACT, q] = last
-    IW[APOS, last] = q
-    IW[FLAG, i] = STUCK
-    W[i, V] = 0.0
-    W[i, VN] = 0.0
-    return nact - 1
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
-    """Activate every stuck neighbour of a slipping block whose force is >= 1."""
-    q = 0
-    while q < nact:
-        i = IW[ACT, q]
-        for p in range(indptr[i], indptr[i + 1]):
-            j = indices[p]
-            if IW[FLAG, j] != ACTIVE:
-                if force(j, D, W, indptr, indices, kval, diag) >= 1.0:
-                    nact, ntouch = _activate(
-                        j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-                    )
-        q += 1
-    return nact, ntouch
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _stick_scan(nact, W, IW):
-    """Deactivate every slipping block that has stopped (v <= 0, a <= 0).
-
-    A block that has just joined has v = 0 but a > 0 and keeps slipping.
-    """
-    for q in range(nact - 1, -1, -1):
-        i = IW[ACT, q]
-        if W[i, V] <= 0.0 and W[i, A] <= 0.0:
-            nact = _deactivate(i, nact, W, IW)
-    return nact
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _step(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
-    """A step without locating crossings (polish re-steps, solo slips)."""
-    if method == 0:
-        rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-    else:
-        dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(0), 0.0)
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _step_scan(method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax):
-    """A step and the earliest crossing inside it: (theta, block, kind, status)."""
-    if method == 0:
-        rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-        return earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax)
-    return dopri_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(1), vmax)
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _residual(who, kind, W, indptr, indices, kval, diag):
-    """Crossing function and its time derivative at the end of the last step."""
-    if kind == STICK:
-        return W[who, VN], W[who, AN]
-    dg = 0.0
-    for r in range(indptr[who], indptr[who + 1]):
-        dg += kval[r] * W[indices[r], VN]
-    return force(who, P, W, indptr, indices, kval, diag) - 1.0, dg
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _taylor_shift(dh, nact, W, IW, indptr, indices, kval, diag, oms, cfr):
-    """Move the end of the step by a tiny ``dh``: x += v dh + a dh^2 / 2, v += a dh.
-
-    Used only for |dh| <= ``_TAYLOR_MAX`` times the step, where the neglected
-    third-order term is below round-off; costs one force pass instead of a step.
-    """
-    half = 0.5 * dh * dh
-    for q in range(nact):
-        i = IW[ACT, q]
-        x = W[i, DN] + dh * W[i, VN] + half * W[i, AN]
-        W[i, DN] = x
-        W[i, P] = x
-        W[i, P2] = x
-        W[i, VN] += dh * W[i, AN]
-    for q in range(nact):
-        i = IW[ACT, q]
-        W[i, AN] = accel(i, P, VN, W, indptr, indices, kval, diag, oms, cfr)
-
-
-#: largest Newton correction, as a fraction of the step, done by a Taylor shift
-_TAYLOR_MAX = 1e-4
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _polish(h, hmax, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
-    """Newton on the true crossing residual at the end of a step of length h.
-
-    A small correction shifts the end by a Taylor step; a large one (a poor
-    first estimate) redoes the step from the committed state.  The crossing
-    ends located to round-off whatever the order of the scheme.  Returns the
-    step length and the number of full step evaluations it took.
-    """
-    n = 0
-    for _ in range(6):
-        g, dg = _residual(who, kind, W, indptr, indices, kval, diag)
-        if dg == 0.0:
-            break
-        dh = -g / dg
-        hn = h + dh
-        if not (0.0 < hn <= hmax) or abs(dh) <= 1e-13 * hmax:
-            break
-        if abs(dh) <= _TAYLOR_MAX * hmax:
-            _taylor_shift(dh, nact, W, IW, indptr, indices, kval, diag, oms, cfr)
-        else:
-            _step(method, hn, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-            n += 1
-        h = hn
-    return h, n
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _commit(nact, W, IW):
-    for q in range(nact):
-        i = IW[ACT, q]
-        W[i, D] = W[i, DN]
-        W[i, V] = W[i, VN]
-        W[i, A] = W[i, AN]
-
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _restore_positions(nact, W, IW):
-    for q in range(nact):
-        i = IW[ACT, q]
-        W[i, P] = W[i, D]
-        W[i, P2] = W[i, D]
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
@@ -326,6 +171,7 @@ def _solo_slip(
     oms,
     cfr,
     ctrl,
+    loc,
     trace_nodes,
     trace_buf,
     cnt,
@@ -370,6 +216,7 @@ def _solo_slip(
         oms,
         cfr,
         ctrl,
+        loc,
         trace_nodes,
         trace_buf,
         cnt,
@@ -437,6 +284,7 @@ def _integrate(
     oms,
     cfr,
     ctrl,
+    loc,
     trace_nodes,
     trace_buf,
     cnt,
@@ -444,65 +292,66 @@ def _integrate(
     """Integrate the active blocks until every block has stopped.
 
     Full steps; a crossing found inside a step is reached by a partial step
-    and polished to round-off, then blocks join or stop.  Returns (status,
-    duration, steps, ntouch).
+    and polished to round-off, then blocks join or stop.  With at least
+    ``ctrl[5]`` slipping blocks (DP5 only) the crossings of a step are handled
+    in local regions instead (:func:`faultnet._kernels.local.local_step`).
+    Returns (status, duration, steps, ntouch).
     """
     dt, max_duration, vmax, method = ctrl[0], ctrl[1], ctrl[2], int(ctrl[3])
-    max_steps = 4.0 * max_duration / dt + 10000.0
+    n_local = ctrl[5]
+    # a stall guard: local regions may shorten the step to _LOCAL_MIN_STEP * dt
+    max_steps = 4.0 * max_duration / (dt * _LOCAL_MIN_STEP) + 10000.0
     tracing = trace_nodes.shape[0] > 0
     t = 0.0
     nsteps = 0
+    zero = nsteps - nsteps  # int64, not a literal: one compiled signature per kernel
+    n_blocks = W.shape[0]
+    h_local = dt  # outer step with local regions: shorter when crossings are dense
     while nact > 0:
-        th, who, kind, status = _step_scan(
-            method, dt, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax
+        local = method == 1 and nact >= n_local and 4 * nact < n_blocks
+        h = h_local if local else dt
+        th, who, kind, status = step_scan(
+            method, h, zero, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
         )
         if status != STATUS_OK:
             return status, t, nsteps, ntouch
         nsteps += 1
         cnt[4] += nact
         if who < 0:
-            _commit(nact, W, IW)
-            t += dt
+            commit(zero, nact, W, IW)
+            t += h
+            if local:
+                h_local = min(dt, 2.0 * h_local)
         else:
-            if th > 0.0:
-                h = dt
-                for _ in range(64):
-                    # step to the located crossing; if another crossing is found
-                    # earlier inside that shorter step, go to it instead
-                    h = th * h
-                    th2, who2, kind2, status = _step_scan(
-                        method, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax
-                    )
-                    nsteps += 1
-                    cnt[4] += nact
-                    cnt[6] += nact
-                    if status != STATUS_OK:
-                        return status, t, nsteps, ntouch
-                    if who2 < 0 or who2 == who or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
-                        break
-                    th, who, kind = th2, who2, kind2
-                    cnt[7] += 1
-                h, npart = _polish(
-                    h, dt, who, kind, method, nact, IW, W, indptr, indices, kval, diag, oms, cfr
-                )
-                nsteps += npart
-                cnt[4] += npart * nact
-                cnt[6] += npart * nact
-                _commit(nact, W, IW)
+            done = False
+            if local:
+                status, nact2, ntouch, n, ncand, done = local_step(
+                    h, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr,
+                    ctrl, loc, cnt,
+                )  # fmt: skip
+                nsteps += n
+                if status != STATUS_OK:
+                    return status, t, nsteps, ntouch
+                if done:
+                    nact = nact2
+                    t += h
+                if ncand > _LOCAL_CROSSINGS:
+                    h_local = max(dt * _LOCAL_MIN_STEP, 0.5 * h_local)
+                elif ncand * 2 < _LOCAL_CROSSINGS:
+                    h_local = min(dt, 2.0 * h_local)
+            if not done:
+                h, who, kind, n, status = to_crossing(
+                    th, who, kind, h, method, zero, nact, IW, W, indptr, indices, kval, diag,
+                    oms, cfr, vmax, loc, cnt,
+                )  # fmt: skip
+                nsteps += n
+                if status != STATUS_OK:
+                    return status, t, nsteps, ntouch
                 t += h
-            else:
-                _restore_positions(nact, W, IW)
-            if kind == JOIN and IW[FLAG, who] != ACTIVE:
-                nact, ntouch = _activate(
-                    who, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-                )
-            # joins first: the neighbours of a block that sticks now are scanned too
-            nact, ntouch = _join_scan(
-                nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-            )
-            if kind == STICK and IW[FLAG, who] == ACTIVE:
-                nact = _deactivate(who, nact, W, IW)
-            nact = _stick_scan(nact, W, IW)
+                nact, ntouch = apply_crossing(
+                    who, kind, zero, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag,
+                    oms, cfr,
+                )  # fmt: skip
         if tracing:
             _record_trace(ev, t, scal[0], z, W, trace_nodes, trace_buf, cnt)
         if t > max_duration or nsteps > max_steps:
@@ -526,6 +375,7 @@ def _one_event(
     oms,
     cfr,
     ctrl,
+    loc,
     cls,
     solo,
     slip_event,
@@ -569,6 +419,7 @@ def _one_event(
                 oms,
                 cfr,
                 ctrl,
+                loc,
                 trace_nodes,
                 trace_buf,
                 cnt,
@@ -602,11 +453,13 @@ def _one_event(
             out[5] = solo[c, 2]
             return STATUS_OK
     zero = np.int64(0)  # not literals: one compiled signature per kernel
-    ntouch = _touch(hyp, w, keys, W, IW, zero)
-    nact, ntouch = _activate(
+    ntouch = touch(hyp, w, keys, W, IW, zero)
+    nact, ntouch = activate(
         hyp, zero, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
     )
-    nact, ntouch = _join_scan(nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
+    nact, ntouch = join_scan(
+        zero, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+    )
     tracing = trace_nodes.shape[0] > 0
     if tracing:
         _record_trace(ev, 0.0, scal[0], z, W, trace_nodes, trace_buf, cnt)
@@ -627,6 +480,7 @@ def _one_event(
         oms,
         cfr,
         ctrl,
+        loc,
         trace_nodes,
         trace_buf,
         cnt,
@@ -686,6 +540,7 @@ def run_events(
     oms,
     cfr,
     ctrl,
+    loc,
     cls,
     solo,
     cat_f,
@@ -725,6 +580,7 @@ def run_events(
             oms,
             cfr,
             ctrl,
+            loc,
             cls,
             solo,
             slip_event,

@@ -4,8 +4,9 @@ Only *active* (slipping) blocks are integrated.  Positions are displacements
 ``delta`` since the start of the event, so round-off does not grow with the
 plate position.  Float work lives in the columns of ``W`` (shape (N, 24),
 block-major so one block's values share cache lines), int work in the rows of
-``IW`` (shape (4, N); the active list ``IW[ACT, :nact]`` is contiguous); the
-column and row names are the constants below.  All kernels are compiled
+``IW`` (shape (N_IWORK, N); the active list ``IW[ACT, q0:nact]`` is contiguous,
+``q0 = 0`` except inside a local region, see :mod:`faultnet._kernels.local`);
+the column and row names are the constants below.  All kernels are compiled
 without the Numba runtime (``_nrt=False``): they never allocate, and array
 arguments then cost no atomic reference counting at call boundaries.
 
@@ -37,6 +38,14 @@ __all__ = [
     "ACT",
     "TOUCH",
     "APOS",
+    "MARK",
+    "REGION",
+    "SAVE",
+    "SLIST",
+    "BND",
+    "CAND",
+    "RES",
+    "QUEUE",
     "N_IWORK",
     "UNTOUCHED",
     "ACTIVE",
@@ -55,9 +64,9 @@ __all__ = [
 # float work columns of W
 D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = range(12)
 N_WORK = 12
-# int work rows
-FLAG, ACT, TOUCH, APOS = range(4)
-N_IWORK = 4
+# int work rows (all but the first four are used by local regions, faultnet._kernels.local)
+FLAG, ACT, TOUCH, APOS, MARK, REGION, SAVE, SLIST, BND, CAND, RES, QUEUE = range(12)
+N_IWORK = 12
 # block flags during an event
 UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
 

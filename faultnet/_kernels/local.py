@@ -1,0 +1,488 @@
+"""Crossings of a large event handled in small local regions.
+
+In an event with many slipping blocks a stop or a join happens somewhere in
+almost every step.  Stepping *all* slipping blocks to each crossing costs
+O(n_active) per crossing, O(n_active^2) per unit of time (on a 150^2 lattice
+the large events took 26 steps per step length of event time).  After a full
+step with crossings inside, :func:`local_step` instead re-integrates only
+small *regions* around the crossing blocks, from the start to the end of the
+step, locating their crossings exactly as the whole-event loop does, while
+the slipping blocks outside keep their full-step results.
+
+- A region is the slipping blocks within graph distance ``RHO`` of a crossing
+  block.  Its *boundary* (slipping blocks outside it next to it, or next to
+  one of its stuck neighbours) follows the outer step's DP5 dense output
+  during the region's steps (:func:`faultnet._kernels.dopri.boundary_positions`).
+- The region's change does not feed back into its boundary.  Every crossing
+  inside a region has all its slipping neighbours in the region (else the
+  region *escapes*), so the neglected effect is a slip change at least two
+  springs away, of order k^2 a h^6 / 720 (1e-10 at the default step of a
+  square lattice) per crossing.
+- The step falls back to the whole-event treatment (the caller's, exact) when
+  a region escapes, when two regions come within two springs of each other,
+  or when the work arrays are too small.  Every block a region changes is
+  saved first (columns SV, SA, VS and row SAVE), so the fallback restores the
+  start of the step.
+
+Row ``REGION`` holds a region's id for its blocks and stuck neighbours and
+minus the id for its boundary; ids come from a counter (``cnt[11]``) and grow,
+so no reset is needed between steps.
+"""
+
+import numba as nb
+import numpy as np
+
+from faultnet._kernels.crossing import STATUS_OK, stick_theta
+from faultnet._kernels.dopri import boundary_positions
+from faultnet._kernels.integrate import (
+    ACT,
+    ACTIVE,
+    AN,
+    APOS,
+    BND,
+    CAND,
+    DN,
+    FLAG,
+    MARK,
+    P2,
+    QUEUE,
+    REGION,
+    RES,
+    SA,
+    SAVE,
+    SLIST,
+    SV,
+    VN,
+    VS,
+    A,
+    D,
+    P,
+    V,
+    accel,
+    force,
+)
+from faultnet._kernels.stepping import apply_crossing, commit, step_scan, to_crossing
+
+__all__ = ["RHO", "local_step"]
+
+#: a region holds the slipping blocks within this graph distance of its crossing
+RHO = 2
+#: a region needing more steps than this falls back (guards against a stall)
+_MAX_SUB_STEPS = 10000
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _new_id(cnt):
+    cnt[11] += 1
+    return cnt[11]
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _save(i, step_id, W, IW, loc):
+    """Keep block i's state at the start of the step (once per step) for a fallback."""
+    if IW[SAVE, i] // 4 != step_id:
+        IW[SAVE, i] = step_id * 4 + IW[FLAG, i]
+        W[i, SV] = W[i, D]
+        W[i, SA] = W[i, V]
+        W[i, VS] = W[i, A]
+        ns = int(loc[4])
+        IW[SLIST, ns] = i
+        loc[4] = ns + 1
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _restore(nact, W, IW, loc):
+    """Undo every region of this step: saved blocks back to the start of the step."""
+    for r in range(int(loc[4])):
+        i = IW[SLIST, r]
+        f = IW[SAVE, i] % 4
+        IW[FLAG, i] = f
+        W[i, D] = W[i, SV]
+        W[i, V] = W[i, SA]
+        W[i, A] = W[i, VS]
+        if f != ACTIVE:
+            W[i, P] = W[i, D]
+            W[i, P2] = W[i, D]
+            W[i, V] = 0.0
+            W[i, VN] = 0.0
+    for q in range(nact):
+        IW[APOS, IW[ACT, q]] = q
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag):
+    """Every block with a crossing inside the full step just taken, into ``IW[CAND]``."""
+    n = 0
+    one = mark - mark + 1  # int64, not a literal: one compiled signature of stick_theta
+    for q in range(nact):
+        i = IW[ACT, q]
+        if W[i, VN] <= 0.0 or W[i, A] < 0.0:
+            if stick_theta(one, hh, q, i, W) <= 1.0:
+                IW[CAND, n] = i
+                n += 1
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if IW[FLAG, j] != ACTIVE and IW[MARK, j] != mark:
+                if force(j, P2, W, indptr, indices, kval, diag) >= 1.0:
+                    IW[MARK, j] = mark
+                    IW[CAND, n] = j
+                    n += 1
+    return n
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _taken(reg, cur, base):
+    """Whether a block marked ``reg`` belongs to, or borders, an earlier region of this step."""
+    return (reg > base and reg != cur) or (reg < -base and reg != -cur)
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _grow(c, cur, base, q0, step_id, mark, W, IW, indptr, indices, loc):
+    """The slipping blocks within RHO of block c, as the list ``IW[ACT, q0:end]``.
+
+    Returns ``end``, or -1 when one of them belongs to or borders an earlier
+    region of this step.
+    """
+    end = q0
+    IW[MARK, c] = mark
+    IW[QUEUE, 0] = c
+    head, tail = 0, 1
+    for depth in range(RHO + 1):
+        stop = tail
+        while head < stop:
+            i = IW[QUEUE, head]
+            head += 1
+            if IW[FLAG, i] == ACTIVE:
+                if _taken(IW[REGION, i], cur, base):
+                    return -1
+                IW[REGION, i] = cur
+                _save(i, step_id, W, IW, loc)
+                IW[ACT, end] = i
+                IW[APOS, i] = end
+                end += 1
+            if depth < RHO:
+                for p in range(indptr[i], indptr[i + 1]):
+                    j = indices[p]
+                    if IW[MARK, j] != mark:
+                        IW[MARK, j] = mark
+                        IW[QUEUE, tail] = j
+                        tail += 1
+    return end
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _border(m, cur, base, mark, IW, loc):
+    """Add slipping block m (outside the region) to the boundary; False on a conflict."""
+    reg = IW[REGION, m]
+    if reg == cur or reg == -cur:
+        return True
+    if reg > base:
+        return False  # in an earlier region: its dense output is gone
+    nb_ = int(loc[1])
+    if nb_ >= IW.shape[1]:
+        return False
+    IW[REGION, m] = -cur
+    IW[BND, nb_] = m
+    loc[1] = nb_ + 1
+    return True
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _enclose(cur, base, q0, end, step_id, mark, W, IW, indptr, indices, loc):
+    """Claim the stuck neighbours of the region's blocks; collect its boundary.
+
+    Returns False when a stuck neighbour or a boundary block is already an
+    earlier region's (two regions within two springs of each other).
+    """
+    loc[0] = loc[1]
+    for q in range(q0, end):
+        i = IW[ACT, q]
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if IW[FLAG, j] == ACTIVE:
+                if not _border(j, cur, base, mark, IW, loc):
+                    return False
+                continue
+            reg = IW[REGION, j]
+            if reg != cur:
+                if reg > base:
+                    return False
+                IW[REGION, j] = cur
+                _save(j, step_id, W, IW, loc)
+            for p2 in range(indptr[j], indptr[j + 1]):
+                m = indices[p2]
+                if IW[FLAG, m] == ACTIVE and not _border(m, cur, base, mark, IW, loc):
+                    return False
+    return True
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _escapes(j, cur, IW, indptr, indices):
+    """Whether a crossing at block j reaches outside the region.
+
+    Its slipping neighbours must be in the region, and so must the slipping
+    neighbours of its stuck neighbours, or on the region's boundary.
+    """
+    for p in range(indptr[j], indptr[j + 1]):
+        m = indices[p]
+        if IW[FLAG, m] == ACTIVE:
+            if IW[REGION, m] != cur:
+                return True
+            continue
+        for p2 in range(indptr[m], indptr[m + 1]):
+            b = indices[p2]
+            if IW[FLAG, b] == ACTIVE and IW[REGION, b] != cur and IW[REGION, b] != -cur:
+                return True
+    return False
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc):
+    """Save and claim the stuck neighbours of the region's slipping blocks before joins."""
+    for q in range(q0, nact):
+        i = IW[ACT, q]
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if IW[FLAG, j] != ACTIVE and IW[REGION, j] != cur:
+                if IW[REGION, j] > base:
+                    return False
+                IW[REGION, j] = cur
+                _save(j, step_id, W, IW, loc)
+    return True
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _sub_run(
+    hh, q0, nact, ntouch, cur, base, step_id, s0, w, keys, W, IW, indptr, indices, kval, diag, oms,
+    cfr, ctrl, loc, cnt,
+):  # fmt: skip
+    """Integrate the region ``IW[ACT, q0:nact]`` over the whole outer step (length hh).
+
+    Returns (status, end of the region's list, ntouch, steps, escaper): a
+    block whose crossing reaches outside the region (the caller grows the
+    regions by it and retries), -2 when out of work space or steps (the
+    caller falls back), else -1.
+    """
+    vmax = ctrl[2]
+    one = q0 - q0 + 1
+    tau = 0.0
+    n = 0
+    cap = W.shape[0]
+    while nact > q0:
+        h = hh - tau
+        if h <= 1e-12 * hh:
+            break
+        loc[2] = tau / hh
+        th, who, kind, status = step_scan(
+            one, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
+        )
+        n += 1
+        cnt[4] += nact - q0
+        if status != STATUS_OK:
+            return status, nact, ntouch, n, -1
+        if who < 0:
+            commit(q0, nact, W, IW)
+            break
+        hs, who, kind, k, status = to_crossing(
+            th, who, kind, h, one, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax,
+            loc, cnt,
+        )  # fmt: skip
+        n += k
+        if status != STATUS_OK:
+            return status, nact, ntouch, n, -1
+        if _escapes(who, cur, IW, indptr, indices):
+            return STATUS_OK, nact, ntouch, n, who
+        tau += hs
+        loc[2] = tau / hh
+        boundary_positions(P, loc[2], W, IW, loc)
+        boundary_positions(P2, loc[2], W, IW, loc)
+        if not _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc):
+            return STATUS_OK, nact, ntouch, n, who
+        if IW[REGION, who] != cur:
+            return STATUS_OK, nact, ntouch, n, who
+        nact, ntouch = apply_crossing(
+            who, kind, q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+        )
+        # every block that started or stopped must have its neighbourhood inside
+        for r in range(s0, int(loc[4])):
+            i = IW[SLIST, r]
+            if IW[REGION, i] == cur and (IW[FLAG, i] == ACTIVE) != (IW[SAVE, i] % 4 == ACTIVE):
+                if _escapes(i, cur, IW, indptr, indices):
+                    return STATUS_OK, nact, ntouch, n, i
+        if nact + 1 >= cap or n > _MAX_SUB_STEPS:
+            return STATUS_OK, nact, ntouch, n, np.int64(-2)
+    return STATUS_OK, nact, ntouch, n, np.int64(-1)
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _quiet(cur, s0, W, IW, indptr, indices, kval, diag, loc):
+    """A stuck block of the region at the threshold at the end of the step, or -1.
+
+    A stuck block whose slipping neighbours in the region all stopped is not
+    scanned in the region's last steps; its force at the end is checked here
+    (the boundary at its end position, column P2).
+    """
+    boundary_positions(P2, 1.0, W, IW, loc)
+    for r in range(s0, int(loc[4])):
+        j = IW[SLIST, r]
+        if IW[FLAG, j] != ACTIVE and IW[REGION, j] == cur:
+            if force(j, P2, W, indptr, indices, kval, diag) >= 1.0:
+                return j
+    return np.int64(-1)
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    """Commit the blocks outside every region; the new active list; returns its length."""
+    step_id = np.int64(loc[5])
+    nrest = 0
+    for q in range(nact):
+        i = IW[ACT, q]
+        if IW[SAVE, i] // 4 == step_id:
+            continue  # a region's block: its state is the region's
+        W[i, D] = W[i, DN]
+        W[i, V] = W[i, VN]
+        W[i, A] = W[i, AN]
+        IW[ACT, nrest] = i
+        IW[APOS, i] = nrest
+        nrest += 1
+    for r in range(nres):
+        i = IW[RES, r]
+        IW[ACT, nrest] = i
+        IW[APOS, i] = nrest
+        nrest += 1
+    # boundary blocks' accelerations with their region neighbours' new positions
+    for r in range(int(loc[1])):
+        b = IW[BND, r]
+        if IW[FLAG, b] == ACTIVE and IW[SAVE, b] // 4 != step_id:
+            W[b, A] = accel(b, D, V, W, indptr, indices, kval, diag, oms, cfr)
+    for q in range(nrest):
+        i = IW[ACT, q]
+        W[i, P] = W[i, D]
+        W[i, P2] = W[i, D]
+    return nrest
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _component(s, cur, cid, q, IW, indptr, indices):
+    """Blocks of the union (``REGION == cur``) within two springs of each other, from s.
+
+    Relabelled ``cid`` and listed at ``IW[ACT, q:end]``; returns ``end``.
+    Blocks further apart share no stuck neighbour and no boundary block, so
+    the components are integrated independently.
+    """
+    IW[REGION, s] = cid
+    IW[ACT, q] = s
+    IW[APOS, s] = q
+    end = q + 1
+    head = q
+    while head < end:
+        i = IW[ACT, head]
+        head += 1
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            for p2 in range(indptr[j], indptr[j + 1] + 1):
+                m = j if p2 == indptr[j + 1] else indices[p2]
+                if IW[FLAG, m] == ACTIVE and IW[REGION, m] == cur:
+                    IW[REGION, m] = cid
+                    IW[ACT, end] = m
+                    IW[APOS, m] = end
+                    end += 1
+    return end
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _attempt(
+    hh, nact, ncand, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
+):  # fmt: skip
+    """Regions around the candidates ``IW[CAND, :ncand]``, each integrated over the step.
+
+    Returns (status, nres, ntouch, steps, escaper): the regions' slipping
+    blocks at the end are ``IW[RES, :nres]``; ``escaper`` >= 0 names a block
+    whose crossing left its region (the caller restores and retries).
+    """
+    step_id = np.int64(loc[5])  # saves are kept once per step, whatever the attempt
+    base = _new_id(cnt)
+    cur = _new_id(cnt)
+    q0 = nact
+    uend = q0
+    for k in range(ncand):
+        uend = _grow(
+            IW[CAND, k], cur, base, uend, step_id, _new_id(cnt), W, IW, indptr, indices, loc
+        )
+        if uend < 0 or q0 + 2 * (uend - q0) + _SPARE >= IW.shape[1]:
+            return STATUS_OK, 0, ntouch, 0, np.int64(-2)
+    nres = 0
+    steps = 0
+    for u in range(q0, uend):
+        if IW[REGION, IW[ACT, u]] != cur:
+            continue
+        cid = _new_id(cnt)
+        end = _component(IW[ACT, u], cur, cid, uend, IW, indptr, indices)
+        s0 = int(loc[4])
+        if not _enclose(cid, base, uend, end, step_id, _new_id(cnt), W, IW, indptr, indices, loc):
+            return STATUS_OK, nres, ntouch, steps, np.int64(-2)
+        status, end, ntouch, n, esc = _sub_run(
+            hh, uend, end, ntouch, cid, base, step_id, s0, w, keys, W, IW, indptr, indices, kval,
+            diag, oms, cfr, ctrl, loc, cnt,
+        )  # fmt: skip
+        steps += n
+        if status != STATUS_OK or esc >= 0:
+            return status, nres, ntouch, steps, esc
+        esc = _quiet(cid, s0, W, IW, indptr, indices, kval, diag, loc)
+        if esc >= 0:
+            return STATUS_OK, nres, ntouch, steps, esc
+        for q in range(uend, end):
+            i = IW[ACT, q]
+            IW[RES, nres] = i
+            IW[APOS, i] = -1
+            nres += 1
+    return STATUS_OK, nres, ntouch, steps, np.int64(-1)
+
+
+#: rows of the work arrays kept free above a region's list for its joins
+_SPARE = 64
+#: escapes a step may retry (each adds the escaping block to the candidates)
+_MAX_ATTEMPTS = 4
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def local_step(
+    hh, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
+):
+    """Handle the crossings inside the full DP5 step just taken (length hh) in local regions.
+
+    Returns (status, nact, ntouch, steps, candidates, done).  ``done`` False:
+    nothing changed since the full step (every region undone), the caller
+    handles the step as usual.  Counters: ``cnt[9]`` steps done locally,
+    ``cnt[10]`` fallbacks.
+    """
+    loc[5] = _new_id(cnt)  # saves are kept once per step, whatever the attempt
+    loc[3] = hh
+    loc[4] = 0.0
+    ncand = _collect(hh, nact, _new_id(cnt), W, IW, indptr, indices, kval, diag)
+    ncand0 = ncand
+    steps = 0
+    for _ in range(_MAX_ATTEMPTS):
+        loc[0] = 0.0
+        loc[1] = 0.0
+        status, nres, ntouch, n, esc = _attempt(
+            hh, nact, ncand, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr,
+            ctrl, loc, cnt,
+        )  # fmt: skip
+        steps += n
+        if status == STATUS_OK and esc == -1:
+            nact = _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+            loc[0] = 0.0
+            loc[1] = 0.0
+            cnt[9] += 1
+            return STATUS_OK, nact, ntouch, steps, ncand0, True
+        _restore(nact, W, IW, loc)
+        if status != STATUS_OK or esc < 0 or ncand >= IW.shape[1]:
+            break
+        IW[CAND, ncand] = esc
+        ncand += 1
+    loc[0] = 0.0
+    loc[1] = 0.0
+    cnt[10] += 1
+    return status, nact, ntouch, steps, ncand0, False

@@ -1,0 +1,290 @@
+"""Inside an event: the active list, steps, and reaching a crossing.
+
+Kernels shared by the event loop (:mod:`faultnet._kernels.events`) and the
+local regions (:mod:`faultnet._kernels.local`).  Every kernel works on the
+active blocks ``IW[ACT, q0:nact]``: ``q0 = 0`` for the whole event, ``q0 > 0``
+for a local region, whose list lives above the event's (see ``local.py``).
+"""
+
+import numba as nb
+import numpy as np
+
+from faultnet._kernels.crossing import (
+    JOIN,
+    STATUS_OK,
+    STICK,
+    earliest_crossing,
+)
+from faultnet._kernels.dopri import boundary_positions, dopri_step
+from faultnet._kernels.integrate import (
+    ACT,
+    ACTIVE,
+    AN,
+    APOS,
+    DN,
+    F0,
+    FLAG,
+    FRONTIER,
+    P2,
+    STUCK,
+    TOUCH,
+    UNTOUCHED,
+    VN,
+    A,
+    D,
+    P,
+    V,
+    accel,
+    force,
+    rk4_step,
+)
+
+__all__ = [
+    "activate",
+    "apply_crossing",
+    "commit",
+    "deactivate",
+    "join_scan",
+    "restore_positions",
+    "step",
+    "step_scan",
+    "stick_scan",
+    "to_crossing",
+    "touch",
+]
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def touch(j, w, keys, W, IW, ntouch):
+    """Mark block j touched and store its force at the start of the event."""
+    IW[FLAG, j] = FRONTIER
+    W[j, F0] = 1.0 + w - keys[j]
+    IW[TOUCH, ntouch] = j
+    return ntouch + 1
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Block j starts to slip from rest; its neighbours become touched."""
+    IW[FLAG, j] = ACTIVE
+    IW[ACT, nact] = j
+    IW[APOS, j] = nact
+    W[j, V] = 0.0
+    W[j, VN] = 0.0
+    for p in range(indptr[j], indptr[j + 1]):
+        nb_ = indices[p]
+        if IW[FLAG, nb_] == UNTOUCHED:
+            ntouch = touch(nb_, w, keys, W, IW, ntouch)
+    W[j, A] = accel(j, P, V, W, indptr, indices, kval, diag, oms, cfr)
+    return nact + 1, ntouch
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def deactivate(i, nact, W, IW):
+    """Block i sticks (v = 0); swap-remove it from the active list."""
+    q = IW[APOS, i]
+    last = IW[ACT, nact - 1]
+    IW[ACT, q] = last
+    IW[APOS, last] = q
+    IW[FLAG, i] = STUCK
+    W[i, V] = 0.0
+    W[i, VN] = 0.0
+    return nact - 1
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def join_scan(q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Activate every stuck neighbour of a slipping block whose force is >= 1."""
+    q = q0
+    while q < nact:
+        i = IW[ACT, q]
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if IW[FLAG, j] != ACTIVE:
+                if force(j, D, W, indptr, indices, kval, diag) >= 1.0:
+                    nact, ntouch = activate(
+                        j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+                    )
+        q += 1
+    return nact, ntouch
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def stick_scan(q0, nact, W, IW):
+    """Deactivate every slipping block that has stopped (v <= 0, a <= 0).
+
+    A block that has just joined has v = 0 but a > 0 and keeps slipping.
+    """
+    for q in range(nact - 1, q0 - 1, -1):
+        i = IW[ACT, q]
+        if W[i, V] <= 0.0 and W[i, A] <= 0.0:
+            nact = deactivate(i, nact, W, IW)
+    return nact
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def step(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
+    """A step without locating crossings (polish re-steps, solo slips)."""
+    if method == 0:
+        rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+    else:
+        dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(0), 0.0, loc)
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+    """A step and the earliest crossing inside it: (theta, block, kind, status)."""
+    if method == 0:
+        rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+        return earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax)
+    return dopri_step(
+        h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(1), vmax, loc
+    )
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _residual(who, kind, W, indptr, indices, kval, diag):
+    """Crossing function and its time derivative at the end of the last step."""
+    if kind == STICK:
+        return W[who, VN], W[who, AN]
+    dg = 0.0
+    for r in range(indptr[who], indptr[who + 1]):
+        dg += kval[r] * W[indices[r], VN]
+    return force(who, P, W, indptr, indices, kval, diag) - 1.0, dg
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _taylor_shift(dh, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Move the end of the step by a tiny ``dh``: x += v dh + a dh^2 / 2, v += a dh.
+
+    Used only for |dh| <= ``_TAYLOR_MAX`` times the step, where the neglected
+    third-order term is below round-off; costs one force pass instead of a step.
+    """
+    half = 0.5 * dh * dh
+    for q in range(q0, nact):
+        i = IW[ACT, q]
+        x = W[i, DN] + dh * W[i, VN] + half * W[i, AN]
+        W[i, DN] = x
+        W[i, P] = x
+        W[i, P2] = x
+        W[i, VN] += dh * W[i, AN]
+    for q in range(q0, nact):
+        i = IW[ACT, q]
+        W[i, AN] = accel(i, P, VN, W, indptr, indices, kval, diag, oms, cfr)
+
+
+#: largest Newton correction, as a fraction of the step, done by a Taylor shift
+_TAYLOR_MAX = 1e-4
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def _polish(
+    h, hmax, who, kind, method, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc
+):
+    """Newton on the true crossing residual at the end of a step of length h.
+
+    A small correction shifts the end by a Taylor step; a large one (a poor
+    first estimate) redoes the step from the committed state.  The crossing
+    ends located to round-off whatever the order of the scheme.  Returns the
+    step length and the number of full step evaluations it took.
+    """
+    n = 0
+    for _ in range(6):
+        g, dg = _residual(who, kind, W, indptr, indices, kval, diag)
+        if dg == 0.0:
+            break
+        dh = -g / dg
+        hn = h + dh
+        if not (0.0 < hn <= hmax) or abs(dh) <= 1e-13 * hmax:
+            break
+        if abs(dh) <= _TAYLOR_MAX * hmax:
+            if loc[1] > loc[0]:
+                th = loc[2] + hn / loc[3]
+                boundary_positions(P, th, W, IW, loc)
+                boundary_positions(P2, th, W, IW, loc)
+            _taylor_shift(dh, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr)
+        else:
+            step(method, hn, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
+            n += 1
+        h = hn
+    return h, n
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def commit(q0, nact, W, IW):
+    for q in range(q0, nact):
+        i = IW[ACT, q]
+        W[i, D] = W[i, DN]
+        W[i, V] = W[i, VN]
+        W[i, A] = W[i, AN]
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def restore_positions(q0, nact, W, IW):
+    for q in range(q0, nact):
+        i = IW[ACT, q]
+        W[i, P] = W[i, D]
+        W[i, P2] = W[i, D]
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def to_crossing(
+    th, who, kind, h, method, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc, cnt
+):
+    """Reach the crossing found at fraction ``th`` of a step of length ``h``; commit there.
+
+    A partial step to the crossing; if another crossing is found earlier inside
+    it, go to that one instead; then Newton-polish the crossing to round-off and
+    commit.  ``th == 0`` (a crossing at the start) discards the step.  Returns
+    (time advanced, block, kind, steps taken, status).
+    """
+    n = 0
+    if th <= 0.0:
+        restore_positions(q0, nact, W, IW)
+        return 0.0, who, kind, n, STATUS_OK
+    hmax = h
+    m = nact - q0
+    for _ in range(64):
+        h = th * h
+        th2, who2, kind2, status = step_scan(
+            method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
+        )
+        n += 1
+        cnt[4] += m
+        cnt[6] += m
+        if status != STATUS_OK:
+            return h, who2, kind2, n, status
+        if who2 < 0 or who2 == who or th2 >= 1.0 - 1e-9 or th2 <= 0.0:
+            break
+        th, who, kind = th2, who2, kind2
+        cnt[7] += 1
+    h, npart = _polish(
+        h, hmax, who, kind, method, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc
+    )
+    n += npart
+    cnt[4] += npart * m
+    cnt[6] += npart * m
+    commit(q0, nact, W, IW)
+    return h, who, kind, n, STATUS_OK
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def apply_crossing(
+    who, kind, q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+):
+    """After committing at a crossing: joins (``who`` and any other block at threshold), then stops.
+
+    Returns (nact, ntouch).
+    """
+    if kind == JOIN and IW[FLAG, who] != ACTIVE:
+        nact, ntouch = activate(
+            who, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+        )
+    # joins first: the neighbours of a block that sticks now are scanned too
+    nact, ntouch = join_scan(
+        q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+    )
+    if kind == STICK and IW[FLAG, who] == ACTIVE:
+        nact = deactivate(who, nact, W, IW)
+    nact = stick_scan(q0, nact, W, IW)
+    return nact, ntouch
