@@ -76,7 +76,7 @@ __all__ = [
 #: with local regions, the outer step is halved while a step holds more
 #: crossings than this (down to _LOCAL_MIN_STEP * dt) and doubled while it
 #: holds fewer than half as many
-_LOCAL_CROSSINGS = 8
+_LOCAL_CROSSINGS = 12
 _LOCAL_MIN_STEP = 1.0 / 16.0
 
 #: the re-centred plate coordinate ``w`` is shifted back by an integer once it

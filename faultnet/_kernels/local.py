@@ -365,11 +365,13 @@ def _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
 def _component(s, cur, cid, q, IW, indptr, indices):
-    """Blocks of the union (``REGION == cur``) within two springs of each other, from s.
+    """Blocks of the union (``REGION == cur``) within three springs of each other, from s.
 
     Relabelled ``cid`` and listed at ``IW[ACT, q:end]``; returns ``end``.
     Blocks further apart share no stuck neighbour and no boundary block, so
-    the components are integrated independently.
+    the components are integrated independently; three, not two: a stuck
+    block that joins next to one component must have the slipping blocks
+    two springs from it in the same component (else it escapes at every retry).
     """
     IW[REGION, s] = cid
     IW[ACT, q] = s
@@ -383,11 +385,13 @@ def _component(s, cur, cid, q, IW, indptr, indices):
             j = indices[p]
             for p2 in range(indptr[j], indptr[j + 1] + 1):
                 m = j if p2 == indptr[j + 1] else indices[p2]
-                if IW[FLAG, m] == ACTIVE and IW[REGION, m] == cur:
-                    IW[REGION, m] = cid
-                    IW[ACT, end] = m
-                    IW[APOS, m] = end
-                    end += 1
+                for p3 in range(indptr[m], indptr[m + 1] + 1):
+                    b = m if p3 == indptr[m + 1] else indices[p3]
+                    if IW[FLAG, b] == ACTIVE and IW[REGION, b] == cur:
+                        IW[REGION, b] = cid
+                        IW[ACT, end] = b
+                        IW[APOS, b] = end
+                        end += 1
     return end
 
 
