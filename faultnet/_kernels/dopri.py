@@ -43,7 +43,15 @@ from faultnet._kernels.tableau import (
     dense_coeffs,
 )
 
-__all__ = ["KA", "KV", "N_WORK_DOPRI", "boundary_positions", "dense_coeffs", "dopri_step"]
+__all__ = [
+    "KA",
+    "KV",
+    "N_WORK_DOPRI",
+    "boundary_at",
+    "boundary_positions",
+    "dense_coeffs",
+    "dopri_step",
+]
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
@@ -72,6 +80,14 @@ def boundary_positions(col, th, W, IW, loc):
         W[b, col] = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
 
 
+@nb.njit(cache=True, nogil=True, _nrt=False)
+def boundary_at(th, W, IW, loc):
+    """The boundary blocks at fraction ``th`` of the outer step, in both stage columns P and P2."""
+    col = int(loc[0] - loc[0]) + P
+    boundary_positions(col, th, W, IW, loc)
+    boundary_positions(col + (P2 - P), th, W, IW, loc)
+
+
 @nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def _acc(i, pos, v, W, indptr, indices, kval, diag, oms, cfr):
     """Acceleration of block i at stage positions ``pos`` and stage velocity ``v``."""
@@ -98,6 +114,9 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     """
     bnd = loc[1] > loc[0]
     th0 = loc[2]
+    # runtime column numbers: one compiled signature of boundary_positions
+    cp = nact - nact + P
+    cp2 = cp + (P2 - P)
     hr = h / loc[3] if bnd else 0.0
     for q in range(q0, nact):
         i = IW[ACT, q]
@@ -108,7 +127,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
         W[i, P] = W[i, D] + h * _A21 * v
         W[q, KV + 1] = v + h * _A21 * a
     if bnd:
-        boundary_positions(P, th0 + 0.2 * hr, W, IW, loc)
+        boundary_positions(cp, th0 + 0.2 * hr, W, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v2 = W[q, KV + 1]
@@ -117,7 +136,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
         W[i, P2] = W[i, D] + h * (_A31 * W[q, KV] + _A32 * v2)
         W[q, KV + 2] = W[i, V] + h * (_A31 * W[q, KA] + _A32 * a2)
     if bnd:
-        boundary_positions(P2, th0 + 0.3 * hr, W, IW, loc)
+        boundary_positions(cp2, th0 + 0.3 * hr, W, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v3 = W[q, KV + 2]
@@ -126,7 +145,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
         W[i, P] = W[i, D] + h * (_A41 * W[q, KV] + _A42 * W[q, KV + 1] + _A43 * v3)
         W[q, KV + 3] = W[i, V] + h * (_A41 * W[q, KA] + _A42 * W[q, KA + 1] + _A43 * a3)
     if bnd:
-        boundary_positions(P, th0 + 0.8 * hr, W, IW, loc)
+        boundary_positions(cp, th0 + 0.8 * hr, W, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v4 = W[q, KV + 3]
@@ -137,7 +156,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
         W[i, P2] = W[i, D] + h * dp
         W[q, KV + 4] = W[i, V] + h * dv
     if bnd:
-        boundary_positions(P2, th0 + 8.0 / 9.0 * hr, W, IW, loc)
+        boundary_positions(cp2, th0 + 8.0 / 9.0 * hr, W, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v5 = W[q, KV + 4]
@@ -160,7 +179,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
         W[i, P] = W[i, D] + h * dp
         W[q, KV + 5] = W[i, V] + h * dv
     if bnd:
-        boundary_positions(P, th0 + 1.0 * hr, W, IW, loc)
+        boundary_positions(cp, th0 + 1.0 * hr, W, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v6 = W[q, KV + 5]
@@ -180,7 +199,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
     kind = np.int64(0)
     if bnd:
-        boundary_positions(P2, th0 + 1.0 * hr, W, IW, loc)
+        boundary_positions(cp2, th0 + 1.0 * hr, W, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]

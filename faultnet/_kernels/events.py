@@ -155,7 +155,7 @@ SOLO_MARGIN = 1e-12
 _HELD = -1e300
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def _solo_slip(
     i,
     ev,
@@ -359,7 +359,7 @@ def _integrate(
     return STATUS_OK, t, nsteps, ntouch
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def _one_event(
     ev,
     z,

@@ -33,7 +33,7 @@ import numba as nb
 import numpy as np
 
 from faultnet._kernels.crossing import STATUS_OK, stick_theta
-from faultnet._kernels.dopri import boundary_positions
+from faultnet._kernels.dopri import boundary_at
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -113,11 +113,11 @@ def _restore(nact, W, IW, loc):
 def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag):
     """Every block with a crossing inside the full step just taken, into ``IW[CAND]``."""
     n = 0
-    one = mark - mark + 1  # int64, not a literal: one compiled signature of stick_theta
     for q in range(nact):
         i = IW[ACT, q]
         if W[i, VN] <= 0.0 or W[i, A] < 0.0:
-            if stick_theta(one, hh, q, i, W) <= 1.0:
+            # the literal method as in the DP5 step's scan: one compiled signature
+            if stick_theta(1, hh, q, i, W) <= 1.0:
                 IW[CAND, n] = i
                 n += 1
         for p in range(indptr[i], indptr[i + 1]):
@@ -251,7 +251,7 @@ def _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc)
     return True
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def _sub_run(
     hh, q0, nact, ntouch, cur, base, step_id, s0, w, keys, W, IW, indptr, indices, kval, diag, oms,
     cfr, ctrl, loc, cnt,
@@ -294,8 +294,7 @@ def _sub_run(
             return STATUS_OK, nact, ntouch, n, who
         tau += hs
         loc[2] = tau / hh
-        boundary_positions(P, loc[2], W, IW, loc)
-        boundary_positions(P2, loc[2], W, IW, loc)
+        boundary_at(loc[2], W, IW, loc)
         if not _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc):
             return STATUS_OK, nact, ntouch, n, who
         if IW[REGION, who] != cur:
@@ -322,7 +321,7 @@ def _quiet(cur, s0, W, IW, indptr, indices, kval, diag, loc):
     scanned in the region's last steps; its force at the end is checked here
     (the boundary at its end position, column P2).
     """
-    boundary_positions(P2, 1.0, W, IW, loc)
+    boundary_at(1.0, W, IW, loc)
     for r in range(s0, int(loc[4])):
         j = IW[SLIST, r]
         if IW[FLAG, j] != ACTIVE and IW[REGION, j] == cur:
@@ -395,7 +394,7 @@ def _component(s, cur, cid, q, IW, indptr, indices):
     return end
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def _attempt(
     hh, nact, ncand, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
 ):  # fmt: skip
@@ -415,7 +414,7 @@ def _attempt(
             IW[CAND, k], cur, base, uend, step_id, _new_id(cnt), W, IW, indptr, indices, loc
         )
         if uend < 0 or q0 + 2 * (uend - q0) + _SPARE >= IW.shape[1]:
-            return STATUS_OK, 0, ntouch, 0, np.int64(-2)
+            return STATUS_OK, q0 - q0, ntouch, q0 - q0, np.int64(-2)
     nres = 0
     steps = 0
     for u in range(q0, uend):
@@ -450,7 +449,7 @@ _SPARE = 64
 _MAX_ATTEMPTS = 4
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def local_step(
     hh, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
 ):

@@ -15,7 +15,7 @@ from faultnet._kernels.crossing import (
     STICK,
     earliest_crossing,
 )
-from faultnet._kernels.dopri import boundary_positions, dopri_step
+from faultnet._kernels.dopri import boundary_at, dopri_step
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -136,7 +136,8 @@ def step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr,
     """A step and the earliest crossing inside it: (theta, block, kind, status)."""
     if method == 0:
         rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-        return earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax)
+        # RK4 only: the literal method prunes the dense-output branch of the scan
+        return earliest_crossing(0, h, nact, W, IW, indptr, indices, kval, diag, vmax)
     return dopri_step(
         h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(1), vmax, loc
     )
@@ -200,8 +201,7 @@ def _polish(
         if abs(dh) <= _TAYLOR_MAX * hmax:
             if loc[1] > loc[0]:
                 th = loc[2] + hn / loc[3]
-                boundary_positions(P, th, W, IW, loc)
-                boundary_positions(P2, th, W, IW, loc)
+                boundary_at(th, W, IW, loc)
             _taylor_shift(dh, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr)
         else:
             step(method, hn, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
