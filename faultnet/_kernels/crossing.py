@@ -27,7 +27,7 @@ from faultnet._kernels.integrate import (
     hermite_root,
     poly_root,
 )
-from faultnet._kernels.tableau import KA, KV, dense_coeffs
+from faultnet._kernels.tableau import KA, KV, dense_coeffs, slot_dense
 
 __all__ = [
     "JOIN",
@@ -61,16 +61,7 @@ def stick_theta(method, h, q, i, W):
     if v1 <= 0.0:
         if v0 > 0.0:
             if method == 1:
-                c0, c1, c2, c3, c4 = dense_coeffs(
-                    v0,
-                    v1,
-                    h * W[q, KA],
-                    h * W[q, KA + 2],
-                    h * W[q, KA + 3],
-                    h * W[q, KA + 4],
-                    h * W[q, KA + 5],
-                    h * W[i, AN],
-                )
+                c0, c1, c2, c3, c4 = slot_dense(v0, v1, h, W, q, KA, W[i, AN])
                 return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
             return hermite_root(0.0, 1.0, v0, h * W[i, A], v1, h * W[i, AN])
         # joined at rest and stops again within the step

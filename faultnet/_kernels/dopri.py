@@ -41,6 +41,7 @@ from faultnet._kernels.tableau import (
     KV,
     N_WORK_DOPRI,
     dense_coeffs,
+    slot_dense,
 )
 
 __all__ = [
@@ -67,16 +68,7 @@ def boundary_positions(col, th, W, IW, loc):
     for r in range(int(loc[0]), int(loc[1])):
         b = IW[BND, r]
         qo = IW[APOS, b]
-        c0, c1, c2, c3, c4 = dense_coeffs(
-            W[b, D],
-            W[b, DN],
-            hh * W[qo, KV],
-            hh * W[qo, KV + 2],
-            hh * W[qo, KV + 3],
-            hh * W[qo, KV + 4],
-            hh * W[qo, KV + 5],
-            hh * W[b, VN],
-        )
+        c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], hh, W, qo, KV, W[b, VN])
         W[b, col] = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
 
 

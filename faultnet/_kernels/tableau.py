@@ -10,7 +10,7 @@ import numba as nb
 
 from faultnet._kernels.integrate import N_WORK
 
-__all__ = ["KA", "KV", "N_WORK_DOPRI", "dense_coeffs"]
+__all__ = ["KA", "KV", "N_WORK_DOPRI", "dense_coeffs", "slot_dense"]
 
 KV = N_WORK  # 6 columns of stage velocities
 KA = N_WORK + 6  # 6 columns of stage accelerations
@@ -47,3 +47,22 @@ def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
     r4 = r2 - k7 - r3
     r5 = _D1 * k1 + _D3 * k3 + _D4 * k4 + _D5 * k5 + _D6 * k6 + _D7 * k7
     return y0, r2 + r3, r4 + r5 - r3, -(r4 + 2.0 * r5), r5
+
+
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+def slot_dense(y0, y1, h, W, q, col, end):
+    """:func:`dense_coeffs` of a block whose stage derivatives are in slot q, columns col + s.
+
+    ``col`` is KV (positions: derivatives are the stage velocities) or KA
+    (velocities); ``end`` is the derivative at the end of the step.
+    """
+    return dense_coeffs(
+        y0,
+        y1,
+        h * W[q, col],
+        h * W[q, col + 2],
+        h * W[q, col + 3],
+        h * W[q, col + 4],
+        h * W[q, col + 5],
+        h * end,
+    )
