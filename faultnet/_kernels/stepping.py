@@ -227,7 +227,7 @@ def restore_positions(q0, nact, W, IW):
         W[i, P2] = W[i, D]
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def to_crossing(
     th, who, kind, h, method, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc, cnt
 ):
@@ -268,7 +268,7 @@ def to_crossing(
     return h, who, kind, n, STATUS_OK
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
 def apply_crossing(
     who, kind, q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
 ):
