@@ -73,7 +73,7 @@ def test_large_correlated_events(monkeypatch, square40):
 
     Measured on the first eight: the local error is 1.1 to 2.4 times the
     whole-event treatment's (both 1e-9 to 2e-8 in displacement, S within
-    8e-7 of the limit), for 10% to 58% fewer block-steps.
+    8e-7 of the limit), for 13% to 58% fewer block-steps.
     """
     model, state = square40
     monkeypatch.setattr(SIM, "LOCAL_REGIONS_FROM", float("inf"))

@@ -142,17 +142,10 @@ def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag):
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
-def _taken(reg, cur, base):
-    """Whether a block marked ``reg`` belongs to, or borders, an earlier region of this step."""
-    return (reg > base and reg != cur) or (reg < -base and reg != -cur)
+def _grow(c, cur, q0, step_id, mark, W, IW, indptr, indices, loc):
+    """Append the slipping blocks within RHO of block c not yet in the union ``cur``.
 
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def _grow(c, cur, base, q0, step_id, mark, W, IW, indptr, indices, loc):
-    """The slipping blocks within RHO of block c, as the list ``IW[ACT, q0:end]``.
-
-    Returns ``end``, or -1 when one of them belongs to or borders an earlier
-    region of this step.
+    The union is the list ``IW[ACT, q0:end]``; returns the new ``end``.
     """
     end = q0
     IW[MARK, c] = mark
@@ -163,9 +156,7 @@ def _grow(c, cur, base, q0, step_id, mark, W, IW, indptr, indices, loc):
         while head < stop:
             i = IW[QUEUE, head]
             head += 1
-            if IW[FLAG, i] == ACTIVE:
-                if _taken(IW[REGION, i], cur, base):
-                    return -1
+            if IW[FLAG, i] == ACTIVE and IW[REGION, i] != cur:
                 IW[REGION, i] = cur
                 _save(i, step_id, W, IW, loc)
                 IW[ACT, end] = i
@@ -182,13 +173,13 @@ def _grow(c, cur, base, q0, step_id, mark, W, IW, indptr, indices, loc):
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
-def _border(m, cur, base, mark, IW, loc):
+def _border(m, cur, base, IW, loc):
     """Add slipping block m (outside the region) to the boundary; False on a conflict."""
     reg = IW[REGION, m]
     if reg == cur or reg == -cur:
         return True
     if reg > base:
-        return False  # in an earlier region: its dense output is gone
+        return False  # another component's: not by construction, fall back
     nb_ = int(loc[1])
     if nb_ >= IW.shape[1]:
         return False
@@ -199,11 +190,11 @@ def _border(m, cur, base, mark, IW, loc):
 
 
 @nb.njit(cache=True, nogil=True, _nrt=False)
-def _enclose(cur, base, q0, end, step_id, mark, W, IW, indptr, indices, loc):
+def _enclose(cur, base, q0, end, step_id, W, IW, indptr, indices, loc):
     """Claim the stuck neighbours of the region's blocks; collect its boundary.
 
-    Returns False when a stuck neighbour or a boundary block is already an
-    earlier region's (two regions within two springs of each other).
+    Returns False when a stuck neighbour or a boundary block belongs to another
+    component (excluded by the three-spring components; a guard, not a path).
     """
     loc[0] = loc[1]
     for q in range(q0, end):
@@ -211,7 +202,7 @@ def _enclose(cur, base, q0, end, step_id, mark, W, IW, indptr, indices, loc):
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
             if IW[FLAG, j] == ACTIVE:
-                if not _border(j, cur, base, mark, IW, loc):
+                if not _border(j, cur, base, IW, loc):
                     return False
                 continue
             reg = IW[REGION, j]
@@ -222,7 +213,7 @@ def _enclose(cur, base, q0, end, step_id, mark, W, IW, indptr, indices, loc):
                 _save(j, step_id, W, IW, loc)
             for p2 in range(indptr[j], indptr[j + 1]):
                 m = indices[p2]
-                if IW[FLAG, m] == ACTIVE and not _border(m, cur, base, mark, IW, loc):
+                if IW[FLAG, m] == ACTIVE and not _border(m, cur, base, IW, loc):
                     return False
     return True
 
@@ -307,8 +298,6 @@ def _sub_run(
         loc[2] = tau / hh
         boundary_at(loc[2], W, IW, loc)
         if not _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc):
-            return STATUS_OK, nact, ntouch, n, who
-        if IW[REGION, who] != cur:
             return STATUS_OK, nact, ntouch, n, who
         nact, ntouch = apply_crossing(
             who, kind, q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
@@ -421,10 +410,8 @@ def _attempt(
     q0 = nact
     uend = q0
     for k in range(ncand):
-        uend = _grow(
-            IW[CAND, k], cur, base, uend, step_id, _new_id(cnt), W, IW, indptr, indices, loc
-        )
-        if uend < 0 or q0 + 2 * (uend - q0) + _SPARE >= IW.shape[1]:
+        uend = _grow(IW[CAND, k], cur, uend, step_id, _new_id(cnt), W, IW, indptr, indices, loc)
+        if q0 + 2 * (uend - q0) + _SPARE >= IW.shape[1]:
             return STATUS_OK, q0 - q0, ntouch, q0 - q0, np.int64(-2)
     nres = 0
     steps = 0
@@ -434,7 +421,7 @@ def _attempt(
         cid = _new_id(cnt)
         end = _component(IW[ACT, u], cur, cid, uend, IW, indptr, indices)
         s0 = int(loc[4])
-        if not _enclose(cid, base, uend, end, step_id, _new_id(cnt), W, IW, indptr, indices, loc):
+        if not _enclose(cid, base, uend, end, step_id, W, IW, indptr, indices, loc):
             return STATUS_OK, nres, ntouch, steps, np.int64(-2)
         status, end, ntouch, n, esc = _sub_run(
             hh, uend, end, ntouch, cid, base, step_id, s0, w, keys, W, IW, indptr, indices, kval,
