@@ -210,6 +210,8 @@ class _Run:
             (n, N_WORK_DOPRI), dtype=np.float64
         )  # block-major: one block's rows share cache lines
         self.IW = np.zeros((N_IWORK, n), dtype=np.int64)
+        # one entry kernel per scheme: a run compiles only its own scheme's code
+        self.kernel = K.run_events_rk4 if method == "rk4" else K.run_events_dopri5
         self.ctrl = np.array(
             [
                 dt,
@@ -240,7 +242,7 @@ class _Run:
 
     def call(self, n_req, ev0, cat_f, cat_i, profiles):
         self.cnt[0] = 0
-        return K.run_events(
+        return self.kernel(
             n_req,
             ev0,
             self.z,

@@ -11,7 +11,7 @@ from faultnet._kernels.crossing import (
     STATUS_RUNAWAY,
     STATUS_SLIPS_FULL,
 )
-from faultnet._kernels.events import run_events
+from faultnet._kernels.events import run_events_dopri5, run_events_rk4
 from faultnet._kernels.tree import build_keys_and_tree
 
 __all__ = [
@@ -21,5 +21,6 @@ __all__ = [
     "STATUS_RUNAWAY",
     "STATUS_SLIPS_FULL",
     "build_keys_and_tree",
-    "run_events",
+    "run_events_dopri5",
+    "run_events_rk4",
 ]

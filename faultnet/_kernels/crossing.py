@@ -7,7 +7,6 @@ method 1) or on a cubic Hermite interpolant of the end values (RK4, method 0,
 and the rare stops of a block that joined at rest or dips below zero).
 """
 
-import numba as nb
 import numpy as np
 
 from faultnet._kernels.integrate import (
@@ -27,6 +26,7 @@ from faultnet._kernels.integrate import (
     hermite_root,
     poly_root,
 )
+from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.tableau import KA, KV, dense_coeffs, slot_dense
 
 __all__ = [
@@ -53,7 +53,7 @@ STICK = 1
 JOIN = 2
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def stick_theta(method, h, q, i, W):
     """Where inside the step block i (active position q) stops; 2.0 if it does not."""
     v0 = W[i, V]
@@ -71,7 +71,7 @@ def stick_theta(method, h, q, i, W):
     return 2.0
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def join_theta(method, h, q0, j, f0, f1, W, IW, indptr, indices, kval):
     """Where inside the step the force on stuck block j reaches 1 (f0 < 1 <= f1).
 
@@ -106,7 +106,7 @@ def join_theta(method, h, q0, j, f0, f1, W, IW, indptr, indices, kval):
     return hermite_root(0.0, 1.0, f0 - 1.0, h * df0, f1 - 1.0, h * df1)
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def block_crossings(
     method, h, q0, q, i, pos, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
 ):
@@ -140,7 +140,7 @@ def block_crossings(
     return best, who, kind, STATUS_OK
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax):
     """Earliest stick or join inside the step just taken (D,V,A -> DN,VN,AN).
 

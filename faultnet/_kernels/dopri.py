@@ -11,11 +11,11 @@ longer than RK4 with 6 instead of 4 force evaluations per step (the seventh,
 first-same-as-last evaluation is the next step's A), see benchmarks/NOTES.md.
 """
 
-import numba as nb
 import numpy as np
 
 from faultnet._kernels.crossing import STATUS_OK, block_crossings
 from faultnet._kernels.integrate import ACT, AN, APOS, BND, DN, P2, VN, A, D, P, V, accel, force
+from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.tableau import (
     _A21,
     _A31,
@@ -55,7 +55,7 @@ __all__ = [
 ]
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def boundary_positions(col, th, W, IW, loc):
     """Write the boundary blocks' positions at fraction ``th`` of the outer step to ``col``.
 
@@ -72,7 +72,7 @@ def boundary_positions(col, th, W, IW, loc):
         W[b, col] = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def boundary_at(th, W, IW, loc):
     """The boundary blocks at fraction ``th`` of the outer step, in both stage columns P and P2."""
     col = int(loc[0] - loc[0]) + P
@@ -80,7 +80,7 @@ def boundary_at(th, W, IW, loc):
     boundary_positions(col + (P2 - P), th, W, IW, loc)
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def _acc(i, pos, v, W, indptr, indices, kval, diag, oms, cfr):
     """Acceleration of block i at stage positions ``pos`` and stage velocity ``v``."""
     den = 1.0 + cfr[i] * v
@@ -89,7 +89,7 @@ def _acc(i, pos, v, W, indptr, indices, kval, diag, oms, cfr):
     return force(i, pos, W, indptr, indices, kval, diag) - oms[i] / den
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax, loc):
     """One Dormand-Prince 5(4) step of length ``h`` for the active blocks ``q0 <= q < nact``.
 

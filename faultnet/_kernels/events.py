@@ -1,8 +1,11 @@
 """The event loop: load the plate to the next failure, run one slip event.
 
-``run_events`` is the only kernel the Python layer calls.  It advances the
-model by up to ``n_req`` events and fills preallocated catalog arrays.  Its
-return value is a status code (``STATUS_*``); counters are written to ``cnt``:
+``run_events_dopri5`` and ``run_events_rk4`` are the only kernels the Python
+layer calls (one per scheme, so that a run compiles only its own scheme's
+code: the scheme reaches the steppers as a literal and is chosen while typing,
+see :func:`faultnet._kernels.stepping.step_scan`).  They advance the model by up
+to ``n_req`` events and fill preallocated catalog arrays.  The return value is
+a status code (``STATUS_*``); counters are written to ``cnt``:
 
 ====  =========================================================
 cnt   meaning
@@ -24,7 +27,6 @@ cnt   meaning
 
 import math
 
-import numba as nb
 import numpy as np
 
 from faultnet._kernels.crossing import (
@@ -51,6 +53,7 @@ from faultnet._kernels.integrate import (
     V,
     accel,
 )
+from faultnet._kernels.jit import entry, inline_kernel, kernel
 from faultnet._kernels.local import local_step
 from faultnet._kernels.stepping import (
     activate,
@@ -70,7 +73,8 @@ __all__ = [
     "STATUS_RUNAWAY",
     "STATUS_EVENT_TOO_LONG",
     "RECENTRE_AT",
-    "run_events",
+    "run_events_dopri5",
+    "run_events_rk4",
 ]
 
 #: with local regions, the outer step is halved while a step holds more
@@ -84,7 +88,7 @@ _LOCAL_MIN_STEP = 1.0 / 16.0
 RECENTRE_AT = 4.0
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _record_trace(ev, t, offset, z, W, trace_nodes, trace_buf, cnt):
     row = cnt[2]
     if row >= trace_buf.shape[0]:
@@ -100,7 +104,7 @@ def _record_trace(ev, t, offset, z, W, trace_nodes, trace_buf, cnt):
     cnt[2] = row + 1
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _finish_event(
     ntouch,
     ev,
@@ -155,8 +159,9 @@ SOLO_MARGIN = 1e-12
 _HELD = -1e300
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def _solo_slip(
+    method,
     i,
     ev,
     scal,
@@ -200,6 +205,7 @@ def _solo_slip(
     c4, c6, c7 = cnt[4], cnt[6], cnt[7]
     one = np.int64(1)  # not the literal 1: _integrate keeps one compiled signature
     status, t, n, _ = _integrate(
+        method,
         ev,
         one,
         one,
@@ -232,7 +238,7 @@ def _solo_slip(
     return s, t, n, status
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _solo_free(hyp, s1, w, keys, indptr, indices, kval):
     """True when slipping s1 alone leaves every neighbour of hyp below threshold.
 
@@ -245,7 +251,7 @@ def _solo_free(hyp, s1, w, keys, indptr, indices, kval):
     return True
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _solo_apply(
     hyp, s1, ev, z, keys, tree, indptr, indices, kval, diag, slip_ev, slip_nd, slip_v, cnt
 ):
@@ -266,8 +272,9 @@ def _solo_apply(
     cnt[8] += 1
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _integrate(
+    method,
     ev,
     nact,
     ntouch,
@@ -297,7 +304,7 @@ def _integrate(
     in local regions instead (:func:`faultnet._kernels.local.local_step`).
     Returns (status, duration, steps, ntouch).
     """
-    dt, max_duration, vmax, method = ctrl[0], ctrl[1], ctrl[2], int(ctrl[3])
+    dt, max_duration, vmax = ctrl[0], ctrl[1], ctrl[2]
     n_local = ctrl[5]
     # a stall guard: local regions may shorten the step to _LOCAL_MIN_STEP * dt
     max_steps = 4.0 * max_duration / (dt * _LOCAL_MIN_STEP) + 10000.0
@@ -359,8 +366,9 @@ def _integrate(
     return STATUS_OK, t, nsteps, ntouch
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def _one_event(
+    method,
     ev,
     z,
     scal,
@@ -405,6 +413,7 @@ def _one_event(
         c = cls[hyp]
         if not (solo[c, 0] == solo[c, 0]):
             s1, t1, n1, status = _solo_slip(
+                method,
                 hyp,
                 ev,
                 scal,
@@ -464,6 +473,7 @@ def _one_event(
     if tracing:
         _record_trace(ev, 0.0, scal[0], z, W, trace_nodes, trace_buf, cnt)
     status, t, nsteps, ntouch = _integrate(
+        method,
         ev,
         nact,
         ntouch,
@@ -512,7 +522,7 @@ def _one_event(
     return STATUS_OK
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _recentre(z, scal, keys, tree, indptr, indices, kval, diag):
     """Shift the frame by an integer so the plate coordinate stays O(1)."""
     shift = math.floor(scal[1])
@@ -523,8 +533,9 @@ def _recentre(z, scal, keys, tree, indptr, indices, kval, diag):
     build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree)
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def run_events(
+@inline_kernel
+def _run_events(
+    method,
     n_req,
     ev0,
     z,
@@ -566,6 +577,7 @@ def run_events(
         if slip_val.shape[0] > 0 and cnt[1] + n > slip_val.shape[0]:
             return STATUS_SLIPS_FULL
         status = _one_event(
+            method,
             ev0 + e,
             z,
             scal,
@@ -606,3 +618,33 @@ def run_events(
         if scal[1] > RECENTRE_AT:
             _recentre(z, scal, keys, tree, indptr, indices, kval, diag)
     return STATUS_OK
+
+
+@entry
+def run_events_dopri5(
+    n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
+    loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes, trace_buf,
+    profiles, cnt, out,
+):  # fmt: skip
+    """:func:`_run_events` with Dormand-Prince 5(4) steps."""
+    return _run_events(
+        1,
+        n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
+        ctrl, loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val,
+        trace_nodes, trace_buf, profiles, cnt, out,
+    )  # fmt: skip
+
+
+@entry
+def run_events_rk4(
+    n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
+    loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes, trace_buf,
+    profiles, cnt, out,
+):  # fmt: skip
+    """:func:`_run_events` with classical RK4 steps (compiled only when used)."""
+    return _run_events(
+        0,
+        n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
+        ctrl, loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val,
+        trace_nodes, trace_buf, profiles, cnt, out,
+    )  # fmt: skip

@@ -18,7 +18,7 @@ Invariants kept by every kernel:
   and has its starting force in ``W[j, F0]``.
 """
 
-import numba as nb
+from faultnet._kernels.jit import inline_kernel, kernel
 
 __all__ = [
     "A",
@@ -71,7 +71,7 @@ N_IWORK = 12
 UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def force(i, pos, W, indptr, indices, kval, diag):
     """Force on touched block ``i`` for the displacements in column ``pos`` of W.
 
@@ -84,7 +84,7 @@ def force(i, pos, W, indptr, indices, kval, diag):
     return W[i, F0] + s - diag[i] * W[i, pos]
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def accel(i, pos, vel, W, indptr, indices, kval, diag, oms, cfr):
     """Acceleration of slipping block ``i`` (columns ``pos``, ``vel`` of W).
 
@@ -98,7 +98,7 @@ def accel(i, pos, vel, W, indptr, indices, kval, diag, oms, cfr):
     return force(i, pos, W, indptr, indices, kval, diag) - oms[i] / den
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
     """Classical RK4 step of length ``h`` from (D, V, A) to (DN, VN, AN).
 
@@ -141,7 +141,7 @@ def rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
         W[i, AN] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def hermite(th, y0, m0, y1, m1):
     """Cubic Hermite interpolant on [0, 1]; m0, m1 are slopes times h."""
     t2 = th * th
@@ -154,7 +154,7 @@ def hermite(th, y0, m0, y1, m1):
     )
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def _hermite_slope(th, y0, m0, y1, m1):
     t2 = th * th
     return (
@@ -165,7 +165,7 @@ def _hermite_slope(th, y0, m0, y1, m1):
     )
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def hermite_root(lo, hi, y0, m0, y1, m1):
     """Root of the Hermite cubic in [lo, hi], where it changes sign.
 
@@ -192,7 +192,7 @@ def hermite_root(lo, hi, y0, m0, y1, m1):
     return th
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def poly_root(lo, hi, c0, c1, c2, c3, c4):
     """Root in [lo, hi] of c0 + c1 t + ... + c4 t^4, which changes sign there.
 
@@ -218,7 +218,7 @@ def poly_root(lo, hi, c0, c1, c2, c3, c4):
     return th
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def _first_critical(y0, m0, y1, m1):
     """Smallest root in (0, 1) of the Hermite cubic's slope, or 2.0."""
     c2 = 6.0 * y0 + 3.0 * m0 - 6.0 * y1 + 3.0 * m1
@@ -241,7 +241,7 @@ def _first_critical(y0, m0, y1, m1):
     return best
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def hermite_fall(m0, y1, m1):
     """Root in (0, 1] of a velocity that starts at 0 rising (m0 > 0) and ends <= 0.
 
@@ -255,7 +255,7 @@ def hermite_fall(m0, y1, m1):
     return hermite_root(peak, 1.0, 0.0, m0, y1, m1)
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def hermite_dip(y0, m0, y1, m1):
     """First root in (0, 1] of a Hermite cubic with y0 > 0, y1 > 0, or 2.0.
 

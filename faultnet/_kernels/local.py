@@ -40,7 +40,6 @@ outer step length ``loc[3]``, number of saved blocks ``loc[4]``, step id
 ``loc[5]``.
 """
 
-import numba as nb
 import numpy as np
 
 from faultnet._kernels.crossing import STATUS_OK, stick_theta
@@ -72,6 +71,7 @@ from faultnet._kernels.integrate import (
     accel,
     force,
 )
+from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.stepping import apply_crossing, commit, step_scan, to_crossing
 
 __all__ = ["RHO", "local_step"]
@@ -82,13 +82,13 @@ RHO = 2
 _MAX_SUB_STEPS = 10000
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _new_id(cnt):
     cnt[11] += 1
     return cnt[11]
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _save(i, step_id, W, IW, loc):
     """Keep block i's state at the start of the step (once per step) for a fallback."""
     if IW[SAVE, i] // 4 != step_id:
@@ -101,7 +101,7 @@ def _save(i, step_id, W, IW, loc):
         loc[4] = ns + 1
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _restore(nact, W, IW, loc):
     """Undo every region of this step: saved blocks back to the start of the step."""
     for r in range(int(loc[4])):
@@ -120,7 +120,7 @@ def _restore(nact, W, IW, loc):
         IW[APOS, IW[ACT, q]] = q
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag):
     """Every block with a crossing inside the full step just taken, into ``IW[CAND]``."""
     n = 0
@@ -141,7 +141,7 @@ def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag):
     return n
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _grow(c, cur, q0, step_id, mark, W, IW, indptr, indices, loc):
     """Append the slipping blocks within RHO of block c not yet in the union ``cur``.
 
@@ -172,7 +172,7 @@ def _grow(c, cur, q0, step_id, mark, W, IW, indptr, indices, loc):
     return end
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _border(m, cur, base, IW, loc):
     """Add slipping block m (outside the region) to the boundary; False on a conflict."""
     reg = IW[REGION, m]
@@ -189,7 +189,7 @@ def _border(m, cur, base, IW, loc):
     return True
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _enclose(cur, base, q0, end, step_id, W, IW, indptr, indices, loc):
     """Claim the stuck neighbours of the region's blocks; collect its boundary.
 
@@ -218,7 +218,7 @@ def _enclose(cur, base, q0, end, step_id, W, IW, indptr, indices, loc):
     return True
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _escapes(j, cur, IW, indptr, indices):
     """Whether a crossing at block j reaches outside the region.
 
@@ -238,7 +238,7 @@ def _escapes(j, cur, IW, indptr, indices):
     return False
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc):
     """Save and claim the stuck neighbours of the region's slipping blocks before joins."""
     for q in range(q0, nact):
@@ -253,7 +253,7 @@ def _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc)
     return True
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def _sub_run(
     hh, q0, nact, ntouch, cur, base, step_id, s0, w, keys, W, IW, indptr, indices, kval, diag, oms,
     cfr, ctrl, loc, cnt,
@@ -266,7 +266,6 @@ def _sub_run(
     caller falls back), else -1.
     """
     vmax = ctrl[2]
-    one = q0 - q0 + 1
     tau = 0.0
     n = 0
     cap = W.shape[0]
@@ -276,7 +275,7 @@ def _sub_run(
             break
         loc[2] = tau / hh
         th, who, kind, status = step_scan(
-            one, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
+            1, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
         )
         n += 1
         cnt[4] += nact - q0
@@ -286,7 +285,7 @@ def _sub_run(
             commit(q0, nact, W, IW)
             break
         hs, who, kind, k, status = to_crossing(
-            th, who, kind, h, one, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax,
+            th, who, kind, h, 1, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax,
             loc, cnt,
         )  # fmt: skip
         n += k
@@ -313,7 +312,7 @@ def _sub_run(
     return STATUS_OK, nact, ntouch, n, np.int64(-1)
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _quiet(cur, s0, W, IW, indptr, indices, kval, diag, loc):
     """A stuck block of the region at the threshold at the end of the step, or -1.
 
@@ -330,7 +329,7 @@ def _quiet(cur, s0, W, IW, indptr, indices, kval, diag, loc):
     return np.int64(-1)
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     """Commit the blocks outside every region; the new active list; returns its length."""
     step_id = np.int64(loc[5])
@@ -362,7 +361,7 @@ def _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     return nrest
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _component(s, cur, cid, q, IW, indptr, indices):
     """Blocks of the union (``REGION == cur``) within three springs of each other, from s.
 
@@ -394,7 +393,7 @@ def _component(s, cur, cid, q, IW, indptr, indices):
     return end
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def _attempt(
     hh, nact, ncand, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
 ):  # fmt: skip
@@ -447,7 +446,7 @@ _SPARE = 64
 _MAX_ATTEMPTS = 4
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def local_step(
     hh, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
 ):

@@ -8,6 +8,8 @@ for a local region, whose list lives above the event's (see ``local.py``).
 
 import numba as nb
 import numpy as np
+from numba.core import types
+from numba.extending import overload
 
 from faultnet._kernels.crossing import (
     JOIN,
@@ -38,6 +40,7 @@ from faultnet._kernels.integrate import (
     force,
     rk4_step,
 )
+from faultnet._kernels.jit import INNER, inline_kernel, kernel
 
 __all__ = [
     "activate",
@@ -54,7 +57,7 @@ __all__ = [
 ]
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def touch(j, w, keys, W, IW, ntouch):
     """Mark block j touched and store its force at the start of the event."""
     IW[FLAG, j] = FRONTIER
@@ -63,7 +66,7 @@ def touch(j, w, keys, W, IW, ntouch):
     return ntouch + 1
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
     """Block j starts to slip from rest; its neighbours become touched."""
     IW[FLAG, j] = ACTIVE
@@ -79,7 +82,7 @@ def activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, 
     return nact + 1, ntouch
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def deactivate(i, nact, W, IW):
     """Block i sticks (v = 0); swap-remove it from the active list."""
     q = IW[APOS, i]
@@ -92,7 +95,7 @@ def deactivate(i, nact, W, IW):
     return nact - 1
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def join_scan(q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
     """Activate every stuck neighbour of a slipping block whose force is >= 1."""
     q = q0
@@ -109,7 +112,7 @@ def join_scan(q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms
     return nact, ntouch
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def stick_scan(q0, nact, W, IW):
     """Deactivate every slipping block that has stopped (v <= 0, a <= 0).
 
@@ -122,28 +125,65 @@ def stick_scan(q0, nact, W, IW):
     return nact
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
 def step(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
-    """A step without locating crossings (polish re-steps, solo slips)."""
-    if method == 0:
-        rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-    else:
+    """A step without locating crossings (polish re-steps, solo slips).
+
+    Chosen while typing (``method`` must be a literal: 0 RK4, 1 DP5), so a
+    run compiles only its own scheme's code.
+    """
+    raise NotImplementedError("a kernel: called from compiled code only")
+
+
+def step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+    """A step and the earliest crossing inside it: (theta, block, kind, status).
+
+    Chosen while typing, like :func:`step`.
+    """
+    raise NotImplementedError("a kernel: called from compiled code only")
+
+
+def _literal_method(method):
+    """0 (RK4) or 1 (DP5) from a literal integer type; else a typing error."""
+    if not isinstance(method, types.IntegerLiteral) or method.literal_value not in (0, 1):
+        raise nb.errors.TypingError(f"method must be the literal 0 or 1, got {method}")
+    return method.literal_value
+
+
+@overload(step, prefer_literal=True, inline="always", jit_options=INNER)
+def _step(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
+    if _literal_method(method) == 0:
+
+        def rk4(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
+            rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+
+        return rk4
+
+    def dp5(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
         dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(0), 0.0, loc)
 
-
-@nb.njit(cache=True, nogil=True, _nrt=False)
-def step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
-    """A step and the earliest crossing inside it: (theta, block, kind, status)."""
-    if method == 0:
-        rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
-        # RK4 only: the literal method prunes the dense-output branch of the scan
-        return earliest_crossing(0, h, nact, W, IW, indptr, indices, kval, diag, vmax)
-    return dopri_step(
-        h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(1), vmax, loc
-    )
+    return dp5
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@overload(step_scan, prefer_literal=True, inline="always", jit_options=INNER)
+def _step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+    if _literal_method(method) == 0:
+
+        def rk4(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+            rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+            # the literal method prunes the dense-output branch of the scan
+            return earliest_crossing(0, h, nact, W, IW, indptr, indices, kval, diag, vmax)
+
+        return rk4
+
+    def dp5(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+        return dopri_step(
+            h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(1), vmax, loc
+        )
+
+    return dp5
+
+
+@kernel
 def _residual(who, kind, W, indptr, indices, kval, diag):
     """Crossing function and its time derivative at the end of the last step."""
     if kind == STICK:
@@ -154,7 +194,7 @@ def _residual(who, kind, W, indptr, indices, kval, diag):
     return force(who, P, W, indptr, indices, kval, diag) - 1.0, dg
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _taylor_shift(dh, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr):
     """Move the end of the step by a tiny ``dh``: x += v dh + a dh^2 / 2, v += a dh.
 
@@ -178,7 +218,7 @@ def _taylor_shift(dh, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr):
 _TAYLOR_MAX = 1e-4
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _polish(
     h, hmax, who, kind, method, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc
 ):
@@ -210,7 +250,7 @@ def _polish(
     return h, n
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def commit(q0, nact, W, IW):
     for q in range(q0, nact):
         i = IW[ACT, q]
@@ -219,7 +259,7 @@ def commit(q0, nact, W, IW):
         W[i, A] = W[i, AN]
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def restore_positions(q0, nact, W, IW):
     for q in range(q0, nact):
         i = IW[ACT, q]
@@ -227,7 +267,7 @@ def restore_positions(q0, nact, W, IW):
         W[i, P2] = W[i, D]
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def to_crossing(
     th, who, kind, h, method, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc, cnt
 ):
@@ -268,7 +308,7 @@ def to_crossing(
     return h, who, kind, n, STATUS_OK
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def apply_crossing(
     who, kind, q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
 ):

@@ -6,9 +6,8 @@ coefficients (20% faster than loops over a coefficient array, see
 benchmarks/NOTES.md).
 """
 
-import numba as nb
-
 from faultnet._kernels.integrate import N_WORK
+from faultnet._kernels.jit import inline_kernel
 
 __all__ = ["KA", "KV", "N_WORK_DOPRI", "dense_coeffs", "slot_dense"]
 
@@ -34,7 +33,7 @@ _D6 = -1453857185.0 / 822651844.0
 _D7 = 69997945.0 / 29380423.0
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
     """Power-basis coefficients (c0..c4) of the DP5 dense output y(theta), theta in [0, 1].
 
@@ -49,7 +48,7 @@ def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
     return y0, r2 + r3, r4 + r5 - r3, -(r4 + 2.0 * r5), r5
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False, inline="always")
+@inline_kernel
 def slot_dense(y0, y1, h, W, q, col, end):
     """:func:`dense_coeffs` of a block whose stage derivatives are in slot q, columns col + s.
 

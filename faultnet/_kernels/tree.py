@@ -11,13 +11,14 @@ the root of a tournament tree over the keys: O(1) to read, O(log N) to update
 one leaf.  Ties go to the lower block index.
 """
 
-import numba as nb
 import numpy as np
+
+from faultnet._kernels.jit import entry, kernel
 
 __all__ = ["block_key", "build_keys_and_tree", "tree_update"]
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def block_key(i, z, indptr, indices, kval, diag):
     """Plate position (re-centred frame) at which block ``i`` fails."""
     s = 0.0
@@ -26,7 +27,7 @@ def block_key(i, z, indptr, indices, kval, diag):
     return 1.0 + diag[i] * z[i] - s
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def _winner(a, b, keys):
     if a < 0:
         return b
@@ -37,7 +38,7 @@ def _winner(a, b, keys):
     return a
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@entry
 def build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree):
     """Recompute every key from ``z`` and rebuild the tree (O(N))."""
     n = z.shape[0]
@@ -50,7 +51,7 @@ def build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree):
         tree[p] = _winner(tree[2 * p], tree[2 * p + 1], keys)
 
 
-@nb.njit(cache=True, nogil=True, _nrt=False)
+@kernel
 def tree_update(i, keys, tree):
     """Restore the tree after ``keys[i]`` changed (O(log N))."""
     p = (tree.shape[0] // 2 + i) // 2
