@@ -5,12 +5,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import networkx as nx
 import numpy as np
-import scipy.sparse as sp
 
 from faultnet.exceptions import InvalidParameterError
+
+if TYPE_CHECKING:  # scipy.sparse is imported where used: 0.2 s off `import faultnet`
+    import scipy.sparse as sp
 
 __all__ = ["CarlsonLanger", "SparseGraph"]
 
@@ -71,6 +74,8 @@ class SparseGraph:
     """
 
     def __init__(self, adjacency, *, sigma=None, alpha=None, name=None):
+        import scipy.sparse as sp
+
         if not sp.issparse(adjacency):
             adjacency = np.asarray(adjacency, dtype=np.float64)
             if adjacency.ndim != 2:
@@ -224,6 +229,8 @@ class CarlsonLanger:
             set_(self, f"{name}_values", arr)
 
     def _build_adjacency(self, g, index):
+        import scipy.sparse as sp
+
         m = g.number_of_edges()
         rows = np.empty(m, dtype=np.int64)
         cols = np.empty(m, dtype=np.int64)
@@ -262,6 +269,8 @@ class CarlsonLanger:
     def laplacian(self) -> sp.csr_matrix:
         """Weighted graph Laplacian ``L = diag(K 1) - K`` (CSR)."""
         deg = np.asarray(self.adjacency.sum(axis=1)).ravel()
+        import scipy.sparse as sp
+
         return (sp.diags(deg) - self.adjacency).tocsr()
 
     @property

@@ -39,7 +39,6 @@ from dataclasses import dataclass
 import networkx as nx
 import numpy as np
 import pandas as pd
-import scipy.sparse as sp
 
 from faultnet.model import CarlsonLanger
 
@@ -322,6 +321,8 @@ def fit_b_mle(M, m_min=None, unbiased=False, bins=_DEFAULT_BINS):
 
 
 def _edges(graph_or_model, n):
+    import scipy.sparse as sp  # here, not at import: 0.2 s off `import faultnet`
+
     """Edge endpoint index arrays (i < j) in the node order of the model/graph."""
     if isinstance(graph_or_model, CarlsonLanger):
         adj = graph_or_model.adjacency
