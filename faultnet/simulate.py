@@ -17,10 +17,6 @@ import warnings
 import numpy as np
 from tqdm.auto import tqdm
 
-from faultnet import _kernels as K
-from faultnet._kernels.dopri import N_WORK_DOPRI
-from faultnet._kernels.integrate import N_IWORK
-from faultnet._kernels.tree import empty_tree
 from faultnet.catalog import SimulationResult, events_frame, slips_frame, traces_frame
 from faultnet.exceptions import (
     EventTooLongError,
@@ -157,17 +153,26 @@ def _trace_indices(model, trace_nodes):
     return np.array([index[n] for n in trace_nodes], dtype=np.int64)
 
 
+def _kernels():
+    """The Numba kernels, imported on the first run (not by ``import faultnet``: numba's import
+    takes a quarter of a second)."""
+    from faultnet import _kernels
+
+    return _kernels
+
+
+#: error class and message per kernel status (by name: the codes live in the kernels)
 _STATUS_MESSAGES = {
-    K.STATUS_NONFINITE: (
+    "STATUS_NONFINITE": (
         NumericalInstabilityError,
         "a velocity became NaN at block {node!r} in event {event}; reduce dt (now {dt:g})",
     ),
-    K.STATUS_RUNAWAY: (
+    "STATUS_RUNAWAY": (
         NumericalInstabilityError,
         "runaway velocity (> {vmax:g}) at block {node!r} in event {event}; the integration "
         "is unstable: reduce dt (now {dt:g}) or check k, sigma and alpha",
     ),
-    K.STATUS_EVENT_TOO_LONG: (
+    "STATUS_EVENT_TOO_LONG": (
         EventTooLongError,
         "event {event} was still running after {maxd:g} time units; raise "
         "max_event_duration if such long events are expected, else reduce dt (now {dt:g})",
@@ -202,14 +207,15 @@ class _Run:
         self.z = np.array(state.z, dtype=np.float64)
         self.scal = np.array([state.offset, state.w], dtype=np.float64)
         self.keys = np.empty(n, dtype=np.float64)
-        self.tree = empty_tree(n)
+        K = _kernels()
+        self.tree = K.empty_tree(n)
         K.build_keys_and_tree(
             self.z, self.indptr, self.indices, self.kval, self.diag, self.keys, self.tree
         )
         self.W = np.zeros(
-            (n, N_WORK_DOPRI), dtype=np.float64
+            (n, K.N_WORK_DOPRI), dtype=np.float64
         )  # block-major: one block's rows share cache lines
-        self.IW = np.zeros((N_IWORK, n), dtype=np.int64)
+        self.IW = np.zeros((K.N_IWORK, n), dtype=np.int64)
         # one entry kernel per scheme: a run compiles only its own scheme's code
         self.kernel = K.run_events_rk4 if method == "rk4" else K.run_events_dopri5
         self.ctrl = np.array(
@@ -396,6 +402,7 @@ def simulate(
         leave=False,
         desc="faultnet",
     ) as bar:
+        K = _kernels()
         while done < n_events:
             n_req = min(chunk, n_events - done)
             tic = time.perf_counter()
@@ -441,7 +448,8 @@ def simulate(
 
 
 def _raise(status, run, model, event, dt):
-    cls, template = _STATUS_MESSAGES[status]
+    K = _kernels()
+    cls, template = next(v for name, v in _STATUS_MESSAGES.items() if getattr(K, name) == status)
     bad = int(run.out[4]) if status == K.STATUS_EVENT_TOO_LONG else None
     node = model.nodes[bad] if bad is not None else "?"
     raise cls(template.format(node=node, event=event, dt=dt, vmax=run.ctrl[2], maxd=run.ctrl[1]))
