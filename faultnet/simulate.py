@@ -223,7 +223,7 @@ class _Run:
                 dt,
                 max_event_duration,
                 max_velocity,
-                METHODS[method],
+                METHODS[method],  # for the record: the kernels take it from their entry
                 float(SOLO_FAST_PATH),
                 float(LOCAL_REGIONS_FROM),
             ],
