@@ -218,12 +218,12 @@ class _Run:
         self.IW = np.zeros((K.N_IWORK, n), dtype=np.int64)
         # one entry kernel per scheme: a run compiles only its own scheme's code
         self.kernel = K.run_events_rk4 if method == "rk4" else K.run_events_dopri5
+        # dt, max duration, max velocity, solo fast path on, local regions from
         self.ctrl = np.array(
             [
                 dt,
                 max_event_duration,
                 max_velocity,
-                METHODS[method],  # for the record: the kernels take it from their entry
                 float(SOLO_FAST_PATH),
                 float(LOCAL_REGIONS_FROM),
             ],

@@ -300,12 +300,12 @@ def _integrate(
 
     Full steps; a crossing found inside a step is reached by a partial step
     and polished to round-off, then blocks join or stop.  With at least
-    ``ctrl[5]`` slipping blocks (DP5 only) the crossings of a step are handled
+    ``ctrl[4]`` slipping blocks (DP5 only) the crossings of a step are handled
     in local regions instead (:func:`faultnet._kernels.local.local_step`).
     Returns (status, duration, steps, ntouch).
     """
     dt, max_duration, vmax = ctrl[0], ctrl[1], ctrl[2]
-    n_local = ctrl[5]
+    n_local = ctrl[4]
     # a stall guard: local regions may shorten the step to _LOCAL_MIN_STEP * dt
     max_steps = 4.0 * max_duration / (dt * _LOCAL_MIN_STEP) + 10000.0
     tracing = trace_nodes.shape[0] > 0
@@ -407,7 +407,7 @@ def _one_event(
     w = scal[1]
     out[0] = scal[0] + w
     out[4] = hyp
-    if at_threshold and ctrl[4] > 0.0 and trace_nodes.shape[0] == 0:
+    if at_threshold and ctrl[3] > 0.0 and trace_nodes.shape[0] == 0:
         # free single-block slip: reuse the block class's solo slip when no
         # neighbour can reach the threshold during it
         c = cls[hyp]
