@@ -31,7 +31,21 @@ def main(argv=None):
         raise SystemExit("no L* rows (periodic square lattices) in " + args.rows)
     n = [r["blocks"] for r in series]
     fig, (a, b) = plt.subplots(1, 2, figsize=(9, 3.6), constrained_layout=True)
-    a.plot(n, [r["block_steps_per_s"] / 1e6 for r in series], "o-")
+    a.plot(n, [r["block_steps_per_s"] / 1e6 for r in series], "o-", label="median of rounds")
+    for r in series:  # run.py --repeat R: every round, to show this VM's drift
+        runs = r.get("block_steps_per_s_all", [])
+        a.plot([r["blocks"]] * len(runs), [v / 1e6 for v in runs], ".", color="0.6", ms=4)
+    ref = next((r for r in series if r["id"] == "L150"), None)
+    if ref is not None:
+        a.axhline(0.7 * ref["block_steps_per_s"] / 1e6, color="C3", ls="--", lw=1)
+        a.annotate(
+            "70% of L=150",
+            (n[0], 0.7 * ref["block_steps_per_s"] / 1e6),
+            textcoords="offset points",
+            xytext=(0, -10),
+            fontsize=7,
+            color="C3",
+        )
     a.set(
         xscale="log",
         xlabel="blocks N (periodic square, alpha = 1)",

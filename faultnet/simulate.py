@@ -2,10 +2,11 @@
 
 The plate is never time-stepped: between events it jumps analytically to the
 next failure (a tournament tree over per-block failure keys).  Inside an event
-only the slipping blocks are integrated with classical RK4 at a fixed step
-``dt``; stick (v -> 0) and join (F -> 1) instants are located inside a step
-by a cubic Hermite interpolant and the step is redone up to that instant, so
-the scheme keeps its fourth order (see ``tests/test_convergence.py``).
+only the slipping blocks are integrated, with Dormand-Prince 5(4) (default) or
+classical RK4 at a fixed step ``dt``; stick (v -> 0) and join (F -> 1) instants
+are located inside a step (on the DP5 dense output, or a cubic Hermite
+interpolant for RK4) and the step is redone up to that instant, so the scheme
+keeps its order (see ``tests/test_convergence.py``).
 """
 
 from __future__ import annotations
@@ -161,6 +162,13 @@ def _kernels():
     return _kernels
 
 
+def _helper():
+    """:mod:`faultnet._compile_helper` (imported late: it runs as ``python -m`` too)."""
+    from faultnet import _compile_helper
+
+    return _compile_helper
+
+
 #: error class and message per kernel status (by name: the codes live in the kernels)
 _STATUS_MESSAGES = {
     "STATUS_NONFINITE": (
@@ -208,6 +216,9 @@ class _Run:
         self.scal = np.array([state.offset, state.w], dtype=np.float64)
         self.keys = np.empty(n, dtype=np.float64)
         K = _kernels()
+        # one entry kernel per scheme: a run compiles only its own scheme's code
+        self.kernel = K.run_events_rk4 if method == "rk4" else K.run_events_dopri5
+        _helper().start(self.kernel)  # a cold cache: a second core compiles too
         self.tree = K.empty_tree(n)
         K.build_keys_and_tree(
             self.z, self.indptr, self.indices, self.kval, self.diag, self.keys, self.tree
@@ -216,8 +227,6 @@ class _Run:
             (n, K.N_WORK_DOPRI), dtype=np.float64
         )  # block-major: one block's rows share cache lines
         self.IW = np.zeros((K.N_IWORK, n), dtype=np.int64)
-        # one entry kernel per scheme: a run compiles only its own scheme's code
-        self.kernel = K.run_events_rk4 if method == "rk4" else K.run_events_dopri5
         # dt, max duration, max velocity, solo fast path on, local regions from
         self.ctrl = np.array(
             [
@@ -325,7 +334,7 @@ def simulate(
         Randomness for the initial state (SPEC 7); its SeedSequence entropy is
         recorded in ``metadata``.
     dt : float, optional
-        RK4 step inside events; default :func:`default_dt`.
+        Integration step inside events; default :func:`default_dt`.
     progress : bool or None
         Show a progress bar (None: only on a terminal).
     record_slips : bool
@@ -408,6 +417,7 @@ def simulate(
             tic = time.perf_counter()
             prof = run.profiles[done:] if record_profiles else run.profiles
             status = run.call(n_req, ev0 + done, cat_f[done:], cat_i[done:], prof)
+            _helper().stop()  # compiled (or loaded) by now
             got = int(run.cnt[0])
             done += got
             steps += int(run.cnt[3])

@@ -687,7 +687,16 @@ def _local_pool(workers):
     ctx = mp.get_context(method)
     if method == "forkserver":
         ctx.set_forkserver_preload(["faultnet.sweep"])
-    return cf.ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    return cf.ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=_no_compile_helper
+    )
+
+
+def _no_compile_helper():
+    """Pool workers are one process per core already: no second process compiling for them."""
+    from faultnet import _compile_helper
+
+    os.environ[_compile_helper.ENV] = "0"
 
 
 def _usable_cores():

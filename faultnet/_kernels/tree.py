@@ -53,10 +53,20 @@ def build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree):
 
 @kernel
 def tree_update(i, keys, tree):
-    """Restore the tree after ``keys[i]`` changed (O(log N))."""
+    """Restore the tree after ``keys[i]`` changed (O(log N), usually a few levels).
+
+    The walk up stops at the first node whose winner is unchanged and is not ``i``: no
+    ancestor can then hold ``i`` (a winner reaches a node only through every node below it on
+    its path), so every ancestor compares the same blocks with the same keys as before.  On a
+    10^6-block lattice the nodes near the root are far apart in memory, and most updates stop
+    within a few levels of the leaf.
+    """
     p = (tree.shape[0] // 2 + i) // 2
     while p >= 1:
-        tree[p] = _winner(tree[2 * p], tree[2 * p + 1], keys)
+        w = _winner(tree[2 * p], tree[2 * p + 1], keys)
+        if w == tree[p] and w != i:
+            return
+        tree[p] = w
         p //= 2
 
 

@@ -1,0 +1,65 @@
+"""The cold-cache compile helper: its recorded order is current, and it changes no result.
+
+Both tests compile from an empty Numba cache in subprocesses (about 20-30 s each).
+"""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+import faultnet
+from faultnet import _compile_helper, _compile_order
+
+
+def test_recorded_order_is_what_a_cold_compile_does(tmp_path):
+    """``_compile_order.ORDER`` is current (regenerate: ``python -m faultnet._compile_helper
+    --record``); a stale list would only make the helper compile the wrong things."""
+    order = _compile_helper.record(tmp_path / "order.py")
+    assert _compile_order.ENTRY == "run_events_dopri5"
+    assert [row[:3] for row in order] == [row[:3] for row in _compile_order.ORDER]
+    assert len(order) > 20
+
+
+def _cold_run(helper):
+    code = (
+        "import json, faultnet\n"
+        "from faultnet import _compile_helper as h\n"
+        "m = faultnet.CarlsonLanger(faultnet.graphs.ring(10), alpha=1.5)\n"
+        "res = faultnet.simulate(m, 50, rng=3, progress=False)\n"
+        "print(json.dumps([res.events.S.tolist(), h._proc is None, h._launched]))\n"
+    )
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, **{_compile_helper.ENV: helper})
+        out = subprocess.check_output([sys.executable, "-c", code], env=env)
+        files = os.listdir(cache)
+    return json.loads(out.decode().strip().splitlines()[-1]), files
+
+
+def test_helper_runs_on_a_cold_cache_and_changes_nothing():
+    (s_helped, stopped, launched), files = _cold_run("1")
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    assert launched == (cores >= 2)
+    assert stopped  # the helper is gone once the run has its kernel
+    assert files  # the cache was written
+    m = faultnet.CarlsonLanger(faultnet.graphs.ring(10), alpha=1.5)
+    ref = faultnet.simulate(m, 50, rng=3, progress=False).events.S.to_numpy()
+    np.testing.assert_array_equal(s_helped, ref)
+
+
+def test_helper_takes_the_early_callees_then_the_rest_from_the_back():
+    order = [
+        ("m", "a", (), False),
+        ("m", "b", (), False),
+        ("m", "spine1", (), True),
+        ("m", "c", (), False),
+        ("m", "d", (), False),
+        ("m", "spine2", (), True),
+        ("m", "e", (), False),
+    ]
+    got = [row[1] for row in _compile_helper.helper_order(order)]
+    assert got == ["a", "b", "e", "d", "c"]
+    assert _compile_helper.helper_order([]) == []
