@@ -134,8 +134,12 @@ def measure(wid, alpha, transient_t, events, tile_from=0):
     print(json.dumps(out))
 
 
-def compile_times():
-    """Seconds for the first simulate call: cold (empty cache) and warm cache."""
+def compile_times(helper="1"):
+    """Seconds for the first simulate call: cold (empty cache) and warm cache; and the import.
+
+    ``helper="0"`` turns off the second process that compiles alongside a cold first call
+    (``faultnet._compile_helper``), to measure the one-core compile.
+    """
     code = (
         "import time, faultnet; t=time.perf_counter();"
         "m=faultnet.CarlsonLanger(faultnet.graphs.ring(10));"
@@ -144,11 +148,23 @@ def compile_times():
     )
     imp = "import time; t=time.perf_counter(); import faultnet; print(time.perf_counter()-t)"
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, FAULTNET_COMPILE_HELPER=helper)
         cold = float(subprocess.check_output([sys.executable, "-c", code], env=env))
         warm = float(subprocess.check_output([sys.executable, "-c", code], env=env))
         import_s = float(subprocess.check_output([sys.executable, "-c", imp], env=env))
     return cold, warm, import_s
+
+
+def _compile_rounds(rounds):
+    """Print compile times, alternating the two-process and the one-process cold compile."""
+    for r in range(rounds):
+        for helper, how in (("1", "with the compile helper"), ("0", "one process")):
+            cold, warm, import_s = compile_times(helper)
+            print(
+                f"round {r + 1}, {how:23}: import faultnet {import_s:.2f} s; first simulate "
+                f"{cold:.1f} s cold cache, {warm:.2f} s warm cache",
+                flush=True,
+            )
 
 
 def _child_run(args, wid, alpha, scale, env):
@@ -189,6 +205,12 @@ def main(argv=None):
         "--transient-t", type=float, default=2.0, help="plate time of the transient (default 2)"
     )
     ap.add_argument("--compile", action="store_true", help="also measure JIT compile times")
+    ap.add_argument(
+        "--compile-only",
+        type=int,
+        metavar="R",
+        help="only the compile times: R rounds, each with and without the compile helper",
+    )
     ap.add_argument("--scaling", action="store_true", help="periodic square L=32..1024 at alpha=1")
     ap.add_argument("--scaling-only", action="store_true", help="the scaling series alone")
     ap.add_argument("--sizes", help="comma-separated L of the scaling series (default 32..1024)")
@@ -211,6 +233,9 @@ def main(argv=None):
     if args.child:
         wid, alpha, transient_t, events, tile = args.child
         measure(wid, float(alpha), float(transient_t), int(events), int(tile))
+        return
+    if args.compile_only:
+        _compile_rounds(args.compile_only)
         return
     scale = 10 if args.quick else 1
     ids = args.ids or ([] if args.scaling_only else sorted(WORKLOADS))
@@ -248,11 +273,8 @@ def main(argv=None):
                 print(f"\nmedian of {args.repeat} rounds (by block-steps/s)")
             _print_row(row, alpha)
     if args.compile:
-        cold, warm, import_s = compile_times()
-        print(
-            f"\nimport faultnet: {import_s:.2f} s; first simulate: {cold:.1f} s cold cache, "
-            f"{warm:.2f} s warm cache"
-        )
+        print()
+        _compile_rounds(1)
     if args.json:
         with open(args.json, "w") as fh:
             for row in rows:
