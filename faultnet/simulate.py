@@ -163,7 +163,8 @@ def _kernels():
 
 
 def _helper():
-    """:mod:`faultnet._compile_helper` (imported late: it runs as ``python -m`` too)."""
+    """:mod:`faultnet._compile_helper`, imported by the first run (``python -m
+    faultnet._compile_helper --record`` must not find it imported by the package)."""
     from faultnet import _compile_helper
 
     return _compile_helper
