@@ -27,10 +27,16 @@ def test_recorded_order_is_what_a_cold_compile_does(tmp_path):
 def _cold_run(helper):
     code = (
         "import json, faultnet\n"
+        "from numba.core import event\n"
         "from faultnet import _compile_helper as h\n"
+        "compiled = []\n"
+        "class L(event.Listener):\n"
+        "    def on_start(self, e): compiled.append(e.data['dispatcher'].py_func.__name__)\n"
+        "    def on_end(self, e): pass\n"
+        "event.register('numba:compile', L())\n"
         "m = faultnet.CarlsonLanger(faultnet.graphs.ring(10), alpha=1.5)\n"
         "res = faultnet.simulate(m, 50, rng=3, progress=False)\n"
-        "print(json.dumps([res.events.S.tolist(), h._proc is None, h._launched]))\n"
+        "print(json.dumps([res.events.S.tolist(), h._proc is None, h._launched, compiled]))\n"
     )
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache, **{_compile_helper.ENV: helper})
@@ -40,10 +46,13 @@ def _cold_run(helper):
 
 
 def test_helper_runs_on_a_cold_cache_and_changes_nothing():
-    (s_helped, stopped, launched), files = _cold_run("1")
+    (s_helped, stopped, launched, compiled), files = _cold_run("1")
     cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
     assert launched == (cores >= 2)
     assert stopped  # the helper is gone once the run has its kernel
+    mine = [name for name in compiled if name in {row[1] for row in _compile_order.ORDER}]
+    if launched:  # the main process loaded what the helper compiled (the cache keys match)
+        assert len(mine) < len(_compile_order.ORDER) - 5, mine
     assert files  # the cache was written
     m = faultnet.CarlsonLanger(faultnet.graphs.ring(10), alpha=1.5)
     ref = faultnet.simulate(m, 50, rng=3, progress=False).events.S.to_numpy()
