@@ -11,7 +11,7 @@ from faultnet.state import State
 
 __all__ = ["SimulationResult", "events_frame", "slips_frame", "traces_frame"]
 
-EVENT_COLUMNS = ["event", "t", "duration", "n_blocks", "S", "M", "hypocenter"]
+EVENT_COLUMNS = ["event", "t", "duration", "n_blocks", "S", "M", "hypocenter", "n_steps"]
 
 
 def node_labels(nodes, idx):
