@@ -27,6 +27,8 @@ import os
 import subprocess
 import sys
 
+from faultnet._system import usable_cores
+
 __all__ = ["ENV", "SPINE_SHARE", "helper_order", "record", "start", "stop"]
 
 #: set to "0" to never start the helper
@@ -63,13 +65,6 @@ def _token(ty, table):
     raise ValueError(f"no token for the kernel argument type {ty!r}; add it to _types()")
 
 
-def _usable_cores():
-    try:
-        return len(os.sched_getaffinity(0))
-    except (AttributeError, OSError):
-        return os.cpu_count() or 1
-
-
 def _cache_is_cold(dispatcher):
     """True if the on-disk cache holds nothing for ``dispatcher`` (internals: any doubt, False)."""
     try:
@@ -81,7 +76,7 @@ def _cache_is_cold(dispatcher):
 def start(entry):
     """Start the helper if ``entry`` (an entry kernel) is about to compile from a cold cache."""
     global _proc, _launched
-    if _proc is not None or os.environ.get(ENV, "1") == "0" or _usable_cores() < 2:
+    if _proc is not None or os.environ.get(ENV, "1") == "0" or usable_cores() < 2:
         return
     from faultnet import _compile_order
 

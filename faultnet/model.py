@@ -268,9 +268,9 @@ class CarlsonLanger:
     @property
     def laplacian(self) -> sp.csr_matrix:
         """Weighted graph Laplacian ``L = diag(K 1) - K`` (CSR)."""
-        deg = np.asarray(self.adjacency.sum(axis=1)).ravel()
         import scipy.sparse as sp
 
+        deg = np.asarray(self.adjacency.sum(axis=1)).ravel()
         return (sp.diags(deg) - self.adjacency).tocsr()
 
     @property

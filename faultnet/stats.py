@@ -321,9 +321,9 @@ def fit_b_mle(M, m_min=None, unbiased=False, bins=_DEFAULT_BINS):
 
 
 def _edges(graph_or_model, n):
+    """Edge endpoint index arrays (i < j) in the node order of the model/graph."""
     import scipy.sparse as sp  # here, not at import: 0.2 s off `import faultnet`
 
-    """Edge endpoint index arrays (i < j) in the node order of the model/graph."""
     if isinstance(graph_or_model, CarlsonLanger):
         adj = graph_or_model.adjacency
     elif isinstance(graph_or_model, nx.Graph):

@@ -71,6 +71,7 @@ import numpy as np
 import pandas as pd
 from tqdm.auto import tqdm
 
+from faultnet._system import usable_cores
 from faultnet.exceptions import FaultnetError, InvalidParameterError
 from faultnet.io import (
     CatalogError,
@@ -699,14 +700,6 @@ def _no_compile_helper():
     os.environ[_compile_helper.ENV] = "0"
 
 
-def _usable_cores():
-    """Cores this process may run on (its CPU affinity where the OS tells)."""
-    try:
-        return max(1, len(os.sched_getaffinity(0)))
-    except (AttributeError, OSError):
-        return os.cpu_count() or 1
-
-
 @contextlib.contextmanager
 def _executor(executor, scheduler, workers, n_tasks):
     if executor is not None:
@@ -725,7 +718,7 @@ def _executor(executor, scheduler, workers, n_tasks):
         finally:
             client.close()
         return
-    n = workers if workers is not None else _usable_cores()
+    n = workers if workers is not None else usable_cores()
     n = max(1, min(int(n), n_tasks))
     if n == 1:
         yield SerialExecutor(), "this process"

@@ -620,6 +620,8 @@ def _run_events(
     return STATUS_OK
 
 
+# The two entries are written out, not made by a factory: Numba keys its on-disk cache by
+# function name and line, so two closures of one factory would share (and clobber) an entry.
 @entry
 def run_events_dopri5(
     n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
