@@ -41,6 +41,7 @@ from faultnet._kernels.integrate import (
     rk4_step,
 )
 from faultnet._kernels.jit import INNER, inline_kernel, kernel
+from faultnet._kernels.landing import land
 
 __all__ = [
     "activate",
@@ -273,15 +274,22 @@ def to_crossing(
 ):
     """Reach the crossing found at fraction ``th`` of a step of length ``h``; commit there.
 
-    A partial step to the crossing; if another crossing is found earlier inside
-    it, go to that one instead; then Newton-polish the crossing to round-off and
-    commit.  ``th == 0`` (a crossing at the start) discards the step.  Returns
+    A join in the whole event (DP5) is landed on the step's interpolant
+    (:func:`faultnet._kernels.landing.land`).  Otherwise, or when that landing
+    is not clean: a partial step to the crossing; if another crossing is found
+    earlier inside it, go to that one instead; then Newton-polish the crossing
+    to round-off and commit.  ``th == 0`` (a crossing at the start) discards the step.  Returns
     (time advanced, block, kind, steps taken, status).
     """
     n = 0
     if th <= 0.0:
         restore_positions(q0, nact, W, IW)
         return 0.0, who, kind, n, STATUS_OK
+    if method == 1 and kind == JOIN and q0 == 0 and loc[1] <= loc[0]:
+        # a join in the whole event (DP5): land on the step's interpolant (landing.py)
+        hl = land(th, who, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+        if hl >= 0.0:
+            return hl, who, kind, n, STATUS_OK
     hmax = h
     m = nact - q0
     for _ in range(64):

@@ -1,0 +1,256 @@
+"""Reaching a join without a partial step: Hermite landing (DP5, whole event).
+
+After a full step (D, V, A) -> (DN, VN, AN) in which a stuck block's force
+reaches the threshold, every slipping block's path over the step follows
+from its two ends alone: the degree-7 Hermite interpolant of the position
+through (x, v, a, jerk) at both ends, and of the velocity through
+(v, a, jerk, snap), jerk and snap being the first two time derivatives of
+the acceleration (one pass over the neighbours each end, no force
+evaluation).  The interpolation error, O(h^8), is far below the step's own,
+O(h^6), so the landed state is as accurate as the step's end.  The joining
+block's force is linear in the positions, hence a degree-7 polynomial over
+the step too; its root next to the dense output's estimate is the join,
+located to round-off.  Every slipping block is then moved there and only
+its acceleration is recomputed (one force pass).  This replaces the partial
+DP5 step to the join and its Newton polish (6 + 1 force passes).
+
+Stops are not landed: the end of a step past a stop lies on the friction
+law's continuation to negative velocities, whose derivatives grow like
+(1 + 2 alpha v / (1 - sigma))^-n, and interpolating through it cost
+accuracy (benchmarks/NOTES.md, session 6).  Whenever the landing is not
+clean (no root next to the estimate, or another block found across its own
+crossing at the join) the caller takes the partial-step path instead.
+
+Scratch columns (free outside a step), by slot q of the active list:
+``W[q, KV]``, ``W[q, KV + 1]`` the jerks at the start and the end of the
+step, ``W[q, KV + 3]``, ``W[q, KV + 4]`` the snaps, ``W[q, KV + 2]`` the
+landed velocity.
+"""
+
+from faultnet._kernels.integrate import (
+    ACT,
+    ACTIVE,
+    AN,
+    APOS,
+    DN,
+    FLAG,
+    P2,
+    VN,
+    A,
+    D,
+    P,
+    V,
+    accel,
+    force,
+)
+from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.tableau import KV
+
+__all__ = ["land", "septic_coeffs", "septic_root"]
+
+
+#: the root may differ from the dense output's estimate by at most this (fraction of the step)
+LAND_WINDOW = 1e-3
+
+_J0 = KV
+_J1 = KV + 1
+_VL = KV + 2
+_S0 = KV + 3
+_S1 = KV + 4
+
+
+@inline_kernel
+def septic_coeffs(y0, d0, s0, t0, y1, d1, s1, t1):
+    """Power-basis coefficients of the degree-7 Hermite interpolant on [0, 1].
+
+    ``y``, ``d``, ``s``, ``t``: the value and its first three derivatives
+    (in units of the interval) at 0 and at 1.
+    """
+    c2 = 0.5 * s0
+    c3 = t0 / 6.0
+    r0 = y1 - y0 - d0 - c2 - c3
+    r1 = d1 - d0 - 2.0 * c2 - 3.0 * c3
+    r2 = s1 - 2.0 * c2 - 6.0 * c3
+    r3 = t1 - 6.0 * c3
+    return (
+        y0,
+        d0,
+        c2,
+        c3,
+        35.0 * r0 - 15.0 * r1 + 2.5 * r2 - r3 / 6.0,
+        -84.0 * r0 + 39.0 * r1 - 7.0 * r2 + 0.5 * r3,
+        70.0 * r0 - 34.0 * r1 + 6.5 * r2 - 0.5 * r3,
+        -20.0 * r0 + 10.0 * r1 - 2.0 * r2 + r3 / 6.0,
+    )
+
+
+@inline_kernel
+def _eval7(t, c0, c1, c2, c3, c4, c5, c6, c7):
+    return c0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * (c5 + t * (c6 + t * c7))))))
+
+
+@inline_kernel
+def _slope7(t, c1, c2, c3, c4, c5, c6, c7):
+    return c1 + t * (
+        2.0 * c2 + t * (3.0 * c3 + t * (4.0 * c4 + t * (5.0 * c5 + t * (6.0 * c6 + t * 7.0 * c7))))
+    )
+
+
+@kernel
+def septic_root(th, c0, c1, c2, c3, c4, c5, c6, c7):
+    """Root of the polynomial by Newton from ``th``; -1.0 unless it converges inside the window."""
+    t = th
+    for _ in range(16):
+        d = _slope7(t, c1, c2, c3, c4, c5, c6, c7)
+        if d == 0.0:
+            return -1.0
+        dt = _eval7(t, c0, c1, c2, c3, c4, c5, c6, c7) / d
+        t -= dt
+        if abs(t - th) > LAND_WINDOW or not (0.0 < t <= 1.0):
+            return -1.0
+        if abs(dt) <= 1e-13:
+            # quadratic convergence: one more step is at round-off
+            t -= _eval7(t, c0, c1, c2, c3, c4, c5, c6, c7) / d
+            return min(t, 1.0)
+    return -1.0
+
+
+@inline_kernel
+def _derivs(i, vel, acc, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Jerk and snap (first and second time derivatives of the acceleration) of block i.
+
+    ``vel``, ``acc``: the velocity and acceleration columns (start or end of
+    the step); neighbours that are not slipping have zero velocity and
+    acceleration.
+    """
+    sv = 0.0
+    sa = 0.0
+    for p in range(indptr[i], indptr[i + 1]):
+        b = indices[p]
+        if IW[FLAG, b] == ACTIVE:
+            sv += kval[p] * W[b, vel]
+            sa += kval[p] * W[b, acc]
+    v = W[i, vel]
+    a = W[i, acc]
+    den = 1.0 + cfr[i] * v
+    if den < 0.5:  # the floored friction (never reached with sane steps) is constant
+        return sv - diag[i] * v, sa - diag[i] * a
+    g = oms[i] * cfr[i] / (den * den)
+    j = sv - diag[i] * v + g * a
+    return j, sa - diag[i] * a + g * (j - 2.0 * cfr[i] * a * a / den)
+
+
+@inline_kernel
+def _neighbour_jerks(i, col, W, IW, indptr, indices, kval):
+    """Sum of k_ib times the jerks (slot column ``col``) of i's slipping neighbours."""
+    s = 0.0
+    for p in range(indptr[i], indptr[i + 1]):
+        b = indices[p]
+        if IW[FLAG, b] == ACTIVE:
+            s += kval[p] * W[IW[APOS, b], col]
+    return s
+
+
+@kernel
+def _join_theta(th, who, h, W, IW, indptr, indices, kval, diag):
+    """Where the force on stuck block ``who`` reaches 1 on the step's interpolant; -1.0 if not
+    next to ``th``.
+
+    The force is linear in the positions and stuck neighbours do not move, so
+    its derivatives are sums over the slipping neighbours.
+    """
+    h2 = h * h
+    h3 = h2 * h
+    g0 = g1 = a0 = a1 = 0.0
+    for r in range(indptr[who], indptr[who + 1]):
+        b = indices[r]
+        if IW[FLAG, b] == ACTIVE:
+            c = kval[r]
+            g0 += c * W[b, V]
+            g1 += c * W[b, VN]
+            a0 += c * W[b, A]
+            a1 += c * W[b, AN]
+    c0, c1, c2, c3, c4, c5, c6, c7 = septic_coeffs(
+        force(who, D, W, indptr, indices, kval, diag) - 1.0,
+        h * g0,
+        h2 * a0,
+        h3 * _neighbour_jerks(who, _J0, W, IW, indptr, indices, kval),
+        force(who, P2, W, indptr, indices, kval, diag) - 1.0,
+        h * g1,
+        h2 * a1,
+        h3 * _neighbour_jerks(who, _J1, W, IW, indptr, indices, kval),
+    )
+    return septic_root(th, c0, c1, c2, c3, c4, c5, c6, c7)
+
+
+@kernel
+def _place(t, who, h, nact, W, IW, indptr, indices, kval, diag):
+    """Every slipping block's interpolated position (P, P2) and velocity (slot column) at ``t``.
+
+    Returns True when no other block has crossed by then: every slipping
+    block still moves forward and every other stuck neighbour is below the
+    threshold.
+    """
+    h2 = h * h
+    h3 = h2 * h
+    for q in range(nact):
+        i = IW[ACT, q]
+        j0 = W[q, _J0]
+        j1 = W[q, _J1]
+        c0, c1, c2, c3, c4, c5, c6, c7 = septic_coeffs(
+            W[i, D], h * W[i, V], h2 * W[i, A], h3 * j0,
+            W[i, DN], h * W[i, VN], h2 * W[i, AN], h3 * j1,
+        )  # fmt: skip
+        x = _eval7(t, c0, c1, c2, c3, c4, c5, c6, c7)
+        c0, c1, c2, c3, c4, c5, c6, c7 = septic_coeffs(
+            W[i, V], h * W[i, A], h2 * j0, h3 * W[q, _S0],
+            W[i, VN], h * W[i, AN], h2 * j1, h3 * W[q, _S1],
+        )  # fmt: skip
+        v = _eval7(t, c0, c1, c2, c3, c4, c5, c6, c7)
+        W[i, P] = x
+        W[i, P2] = x
+        if v < 0.0:
+            return False
+        W[q, _VL] = v
+    for q in range(nact):
+        i = IW[ACT, q]
+        for p in range(indptr[i], indptr[i + 1]):
+            j = indices[p]
+            if j != who and IW[FLAG, j] != ACTIVE:
+                if force(j, P, W, indptr, indices, kval, diag) >= 1.0:
+                    return False
+    return True
+
+
+@kernel
+def land(th, who, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
+    """Move the whole event to the join of ``who`` inside the step just taken; commit there.
+
+    ``th`` is the dense output's estimate of the join (a fraction of the
+    step of length ``h``).  Returns the time advanced, or -1.0 when the
+    landing is not clean; the committed state (D, V, A) is then unchanged and
+    the positions P, P2 of the slipping blocks are rewritten by the next step.
+    """
+    for q in range(nact):
+        i = IW[ACT, q]
+        W[q, _J0], W[q, _S0] = _derivs(i, V, A, W, IW, indptr, indices, kval, diag, oms, cfr)
+        W[q, _J1], W[q, _S1] = _derivs(i, VN, AN, W, IW, indptr, indices, kval, diag, oms, cfr)
+    t = _join_theta(th, who, h, W, IW, indptr, indices, kval, diag)
+    if t < 0.0:
+        return -1.0
+    if not _place(t, who, h, nact, W, IW, indptr, indices, kval, diag):
+        return -1.0
+    for q in range(nact):
+        i = IW[ACT, q]
+        x = W[i, P]
+        W[i, D] = x
+        W[i, DN] = x
+        v = W[q, _VL]
+        W[i, V] = v
+        W[i, VN] = v
+    for q in range(nact):
+        i = IW[ACT, q]
+        a = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
+        W[i, A] = a
+        W[i, AN] = a
+    return t * h
