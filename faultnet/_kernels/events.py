@@ -300,8 +300,8 @@ def _integrate(
 
     Full steps; a crossing found inside a step is reached by a partial step
     and polished to round-off (a join, with DP5: landed on the step's
-    interpolant, :mod:`faultnet._kernels.landing`), then blocks join or stop.  With at least
-    ``ctrl[4]`` slipping blocks (DP5 only) the crossings of a step are handled
+    interpolant, :mod:`faultnet._kernels.landing`), then blocks join or stop.
+    With at least ``ctrl[4]`` slipping blocks (DP5 only) the crossings of a step are handled
     in local regions instead (:func:`faultnet._kernels.local.local_step`).
     Returns (status, duration, steps, ntouch).
     """

@@ -140,45 +140,37 @@ def _derivs(i, vel, acc, W, IW, indptr, indices, kval, diag, oms, cfr):
     return j, sa - diag[i] * a + g * (j - 2.0 * cfr[i] * a * a / den)
 
 
-@inline_kernel
-def _neighbour_jerks(i, col, W, IW, indptr, indices, kval):
-    """Sum of k_ib times the jerks (slot column ``col``) of i's slipping neighbours."""
-    s = 0.0
-    for p in range(indptr[i], indptr[i + 1]):
-        b = indices[p]
-        if IW[FLAG, b] == ACTIVE:
-            s += kval[p] * W[IW[APOS, b], col]
-    return s
-
-
 @kernel
 def _join_theta(th, who, h, W, IW, indptr, indices, kval, diag):
     """Where the force on stuck block ``who`` reaches 1 on the step's interpolant; -1.0 if not
     next to ``th``.
 
     The force is linear in the positions and stuck neighbours do not move, so
-    its derivatives are sums over the slipping neighbours.
+    its derivatives are sums over the slipping neighbours (their jerks by slot).
     """
     h2 = h * h
     h3 = h2 * h
-    g0 = g1 = a0 = a1 = 0.0
+    g0 = g1 = a0 = a1 = j0 = j1 = 0.0
     for r in range(indptr[who], indptr[who + 1]):
         b = indices[r]
         if IW[FLAG, b] == ACTIVE:
             c = kval[r]
+            q = IW[APOS, b]
             g0 += c * W[b, V]
             g1 += c * W[b, VN]
             a0 += c * W[b, A]
             a1 += c * W[b, AN]
+            j0 += c * W[q, _J0]
+            j1 += c * W[q, _J1]
     c0, c1, c2, c3, c4, c5, c6, c7 = septic_coeffs(
         force(who, D, W, indptr, indices, kval, diag) - 1.0,
         h * g0,
         h2 * a0,
-        h3 * _neighbour_jerks(who, _J0, W, IW, indptr, indices, kval),
+        h3 * j0,
         force(who, P2, W, indptr, indices, kval, diag) - 1.0,
         h * g1,
         h2 * a1,
-        h3 * _neighbour_jerks(who, _J1, W, IW, indptr, indices, kval),
+        h3 * j1,
     )
     return septic_root(th, c0, c1, c2, c3, c4, c5, c6, c7)
 

@@ -278,15 +278,16 @@ def to_crossing(
     (:func:`faultnet._kernels.landing.land`).  Otherwise, or when that landing
     is not clean: a partial step to the crossing; if another crossing is found
     earlier inside it, go to that one instead; then Newton-polish the crossing
-    to round-off and commit.  ``th == 0`` (a crossing at the start) discards the step.  Returns
-    (time advanced, block, kind, steps taken, status).
+    to round-off and commit.  ``th == 0`` (a crossing at the start) discards
+    the step.  Returns (time advanced, block, kind, steps taken, status).
     """
     n = 0
     if th <= 0.0:
         restore_positions(q0, nact, W, IW)
         return 0.0, who, kind, n, STATUS_OK
-    if method == 1 and kind == JOIN and q0 == 0 and loc[1] <= loc[0]:
-        # a join in the whole event (DP5): land on the step's interpolant (landing.py)
+    if method == 1 and kind == JOIN and q0 == 0:
+        # a join in the whole event (DP5; a local region has q0 > 0): land on the step's
+        # interpolant (landing.py)
         hl = land(th, who, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
         if hl >= 0.0:
             return hl, who, kind, n, STATUS_OK
