@@ -250,7 +250,8 @@ class _Run:
         self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
         self.profiles = np.zeros((profiles_rows, n if profiles_rows else 0), dtype=np.float64)
         self.cnt = np.zeros(12, dtype=np.int64)
-        self.loc = np.zeros(6, dtype=np.float64)  # local-region context (boundary, times)
+        # local-region context (boundary, times) and the boundary's dense coefficients
+        self.loc = np.zeros(K.LOC_SIZE, dtype=np.float64)
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
         self.cls = model.block_classes
         self.solo = np.full((int(self.cls.max()) + 1, 3), np.nan)

@@ -11,12 +11,13 @@ from faultnet._kernels.crossing import (
     STATUS_RUNAWAY,
     STATUS_SLIPS_FULL,
 )
-from faultnet._kernels.dopri import N_WORK_DOPRI
+from faultnet._kernels.dopri import LOC_SIZE, N_WORK_DOPRI
 from faultnet._kernels.events import run_events_dopri5, run_events_rk4
 from faultnet._kernels.integrate import N_IWORK
 from faultnet._kernels.tree import build_keys_and_tree, empty_tree
 
 __all__ = [
+    "LOC_SIZE",
     "N_IWORK",
     "N_WORK_DOPRI",
     "STATUS_EVENT_TOO_LONG",

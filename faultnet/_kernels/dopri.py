@@ -45,14 +45,43 @@ from faultnet._kernels.tableau import (
 )
 
 __all__ = [
+    "BOUNDARY_CACHE",
     "KA",
     "KV",
+    "LOC_CACHE",
+    "LOC_SIZE",
     "N_WORK_DOPRI",
     "boundary_at",
     "boundary_positions",
+    "cache_boundary",
     "dense_coeffs",
     "dopri_step",
 ]
+
+
+#: ``loc[:LOC_CACHE]`` is the region context; then the dense coefficients of boundary blocks
+LOC_CACHE = 6
+#: boundary blocks whose coefficients are kept (more are evaluated from their stages)
+BOUNDARY_CACHE = 4096
+#: length of ``loc``
+LOC_SIZE = LOC_CACHE + 5 * BOUNDARY_CACHE
+
+
+@kernel
+def cache_boundary(r, b, W, IW, loc):
+    """Keep the dense-output coefficients of boundary block b (entry r) in ``loc``.
+
+    The boundary follows the outer step at every stage of every step of its
+    region; its coefficients are computed here once, not at each stage.
+    """
+    o = LOC_CACHE + 5 * r
+    if o + 5 <= loc.shape[0]:
+        c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], loc[3], W, IW[APOS, b], KV, W[b, VN])
+        loc[o] = c0
+        loc[o + 1] = c1
+        loc[o + 2] = c2
+        loc[o + 3] = c3
+        loc[o + 4] = c4
 
 
 @kernel
@@ -62,13 +91,17 @@ def boundary_positions(col, th, W, IW, loc):
     The boundary of a local region (``IW[BND, loc[0]:loc[1]]``) are slipping
     blocks outside it; they follow the DP5 dense output of the outer step of
     length ``loc[3]``, whose stage derivatives are in their outer slot
-    ``IW[APOS, b]``.
+    ``IW[APOS, b]`` and whose coefficients :func:`cache_boundary` keeps.
     """
     hh = loc[3]
+    ncache = (loc.shape[0] - LOC_CACHE) // 5
     for r in range(int(loc[0]), int(loc[1])):
         b = IW[BND, r]
-        qo = IW[APOS, b]
-        c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], hh, W, qo, KV, W[b, VN])
+        if r < ncache:
+            o = LOC_CACHE + 5 * r
+            c0, c1, c2, c3, c4 = loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4]
+        else:
+            c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], hh, W, IW[APOS, b], KV, W[b, VN])
         W[b, col] = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
 
 

@@ -33,17 +33,18 @@ the slipping blocks outside keep their full-step results.
 
 Row ``REGION`` holds a region's id for its blocks and stuck neighbours and
 minus the id for its boundary; ids come from a counter (``cnt[11]``) and grow,
-so no reset is needed between steps.  ``loc`` (float64[6]) is the context
+so no reset is needed between steps.  ``loc`` (float64[LOC_SIZE]) is the context
 shared with the step kernels: boundary list range ``IW[BND, loc[0]:loc[1]]``,
 start of the current region step as a fraction of the outer step ``loc[2]``,
 outer step length ``loc[3]``, number of saved blocks ``loc[4]``, step id
-``loc[5]``.
+``loc[5]``, then the boundary blocks' dense-output coefficients
+(:func:`faultnet._kernels.dopri.cache_boundary`).
 """
 
 import numpy as np
 
 from faultnet._kernels.crossing import STATUS_OK, stick_theta
-from faultnet._kernels.dopri import boundary_at
+from faultnet._kernels.dopri import boundary_at, cache_boundary
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -173,7 +174,7 @@ def _grow(c, cur, q0, step_id, mark, W, IW, indptr, indices, loc):
 
 
 @kernel
-def _border(m, cur, base, IW, loc):
+def _border(m, cur, base, W, IW, loc):
     """Add slipping block m (outside the region) to the boundary; False on a conflict."""
     reg = IW[REGION, m]
     if reg == cur or reg == -cur:
@@ -186,6 +187,7 @@ def _border(m, cur, base, IW, loc):
     IW[REGION, m] = -cur
     IW[BND, nb_] = m
     loc[1] = nb_ + 1
+    cache_boundary(nb_, m, W, IW, loc)
     return True
 
 
@@ -202,7 +204,7 @@ def _enclose(cur, base, q0, end, step_id, W, IW, indptr, indices, loc):
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
             if IW[FLAG, j] == ACTIVE:
-                if not _border(j, cur, base, IW, loc):
+                if not _border(j, cur, base, W, IW, loc):
                     return False
                 continue
             reg = IW[REGION, j]
@@ -213,7 +215,7 @@ def _enclose(cur, base, q0, end, step_id, W, IW, indptr, indices, loc):
                 _save(j, step_id, W, IW, loc)
             for p2 in range(indptr[j], indptr[j + 1]):
                 m = indices[p2]
-                if IW[FLAG, m] == ACTIVE and not _border(m, cur, base, IW, loc):
+                if IW[FLAG, m] == ACTIVE and not _border(m, cur, base, W, IW, loc):
                     return False
     return True
 
@@ -365,31 +367,54 @@ def _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
 def _component(s, cur, cid, q, IW, indptr, indices):
     """Blocks of the union (``REGION == cur``) within three springs of each other, from s.
 
-    Relabelled ``cid`` and listed at ``IW[ACT, q:end]``; returns ``end``.
-    Blocks further apart share no stuck neighbour and no boundary block, so
-    the components are integrated independently; three, not two: a stuck
-    block that joins next to one component must have the slipping blocks
-    two springs from it in the same component (else it escapes at every retry).
+    Relabelled ``cid`` and listed at ``IW[ACT, q:end]``; returns ``end``, or -1
+    when the search queue overflows (the caller falls back).  Blocks further
+    apart share no stuck neighbour and no boundary block, so the components are
+    integrated independently; three, not two: a stuck block that joins next to
+    one component must have the slipping blocks two springs from it in the same
+    component (else it escapes at every retry).
+
+    A breadth-first search to depth 3 from all the component's blocks at once:
+    every block visited keeps its least distance from the component in
+    ``IW[MARK]`` (as ``-(4 cid + d)``, apart from the positive marks of
+    :func:`_grow` and :func:`_collect`), so it is expanded again only when that
+    distance shrinks, not once per component block near it (deg^3 paths each).
     """
+    n = IW.shape[1]
+    tag = 4 * cid
     IW[REGION, s] = cid
     IW[ACT, q] = s
     IW[APOS, s] = q
+    IW[MARK, s] = -tag
     end = q + 1
-    head = q
-    while head < end:
-        i = IW[ACT, head]
+    IW[QUEUE, 0] = s
+    head = 0
+    tail = 1
+    while head < tail:
+        i = IW[QUEUE, head % n]
         head += 1
+        nd = 1 - IW[MARK, i] - tag  # its distance (the least so far) plus one
+        if nd > 3:
+            continue
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
-            for p2 in range(indptr[j], indptr[j + 1] + 1):
-                m = j if p2 == indptr[j + 1] else indices[p2]
-                for p3 in range(indptr[m], indptr[m + 1] + 1):
-                    b = m if p3 == indptr[m + 1] else indices[p3]
-                    if IW[FLAG, b] == ACTIVE and IW[REGION, b] == cur:
-                        IW[REGION, b] = cid
-                        IW[ACT, end] = b
-                        IW[APOS, b] = end
-                        end += 1
+            dj = -IW[MARK, j] - tag
+            if 0 <= dj <= nd:
+                continue  # already reached as close
+            if IW[FLAG, j] == ACTIVE and IW[REGION, j] == cur:
+                IW[REGION, j] = cid
+                IW[ACT, end] = j
+                IW[APOS, j] = end
+                end += 1
+                IW[MARK, j] = -tag
+            else:
+                IW[MARK, j] = -(tag + nd)
+                if nd == 3:
+                    continue
+            if tail - head >= n:
+                return q - q - 1
+            IW[QUEUE, tail % n] = j
+            tail += 1
     return end
 
 
@@ -420,7 +445,7 @@ def _attempt(
         cid = _new_id(cnt)
         end = _component(IW[ACT, u], cur, cid, uend, IW, indptr, indices)
         s0 = int(loc[4])
-        if not _enclose(cid, base, uend, end, step_id, W, IW, indptr, indices, loc):
+        if end < 0 or not _enclose(cid, base, uend, end, step_id, W, IW, indptr, indices, loc):
             return STATUS_OK, nres, ntouch, steps, np.int64(-2)
         status, end, ntouch, n, esc = _sub_run(
             hh, uend, end, ntouch, cid, base, step_id, s0, w, keys, W, IW, indptr, indices, kval,
