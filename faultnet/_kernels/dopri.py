@@ -67,6 +67,19 @@ BOUNDARY_CACHE = 4096
 LOC_SIZE = LOC_CACHE + 5 * BOUNDARY_CACHE
 
 
+@inline_kernel
+def _cache_slot(r, loc):
+    """Offset in ``loc`` of boundary entry r's coefficients, or -1 beyond the cache."""
+    o = LOC_CACHE + 5 * r
+    return o if o + 5 <= loc.shape[0] else -1
+
+
+@inline_kernel
+def _outer_dense(b, W, IW, loc):
+    """Dense-output coefficients of boundary block b over the outer step (its outer slot)."""
+    return slot_dense(W[b, D], W[b, DN], loc[3], W, IW[APOS, b], KV, W[b, VN])
+
+
 @kernel
 def cache_boundary(r, b, W, IW, loc):
     """Keep the dense-output coefficients of boundary block b (entry r) in ``loc``.
@@ -74,14 +87,9 @@ def cache_boundary(r, b, W, IW, loc):
     The boundary follows the outer step at every stage of every step of its
     region; its coefficients are computed here once, not at each stage.
     """
-    o = LOC_CACHE + 5 * r
-    if o + 5 <= loc.shape[0]:
-        c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], loc[3], W, IW[APOS, b], KV, W[b, VN])
-        loc[o] = c0
-        loc[o + 1] = c1
-        loc[o + 2] = c2
-        loc[o + 3] = c3
-        loc[o + 4] = c4
+    o = _cache_slot(r, loc)
+    if o >= 0:
+        loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4] = _outer_dense(b, W, IW, loc)
 
 
 @kernel
@@ -93,15 +101,13 @@ def boundary_positions(col, th, W, IW, loc):
     length ``loc[3]``, whose stage derivatives are in their outer slot
     ``IW[APOS, b]`` and whose coefficients :func:`cache_boundary` keeps.
     """
-    hh = loc[3]
-    ncache = (loc.shape[0] - LOC_CACHE) // 5
     for r in range(int(loc[0]), int(loc[1])):
         b = IW[BND, r]
-        if r < ncache:
-            o = LOC_CACHE + 5 * r
+        o = _cache_slot(r, loc)
+        if o >= 0:
             c0, c1, c2, c3, c4 = loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4]
         else:
-            c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], hh, W, IW[APOS, b], KV, W[b, VN])
+            c0, c1, c2, c3, c4 = _outer_dense(b, W, IW, loc)
         W[b, col] = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
 
 
