@@ -96,8 +96,12 @@ class SimulationResult:
         actually done in this call), ``solo_events`` (events taken from a
         cached solo slip, which cost no integration), ``local_steps`` (steps
         whose crossings were handled in local regions, see
-        ``simulate.LOCAL_REGIONS_FROM``) and ``local_fallbacks`` (such steps
-        handed back to the whole-event treatment).
+        ``simulate.LOCAL_REGIONS_FROM``), ``local_fallbacks`` (such steps
+        handed back to the whole-event treatment), and the parts of
+        ``block_steps`` spent in partial steps to crossings and their
+        polish (``partial_block_steps``) and inside local regions
+        (``region_block_steps``); ``landed_joins`` counts the joins reached
+        on a step's interpolant instead of by a partial step.
     """
 
     events: pd.DataFrame

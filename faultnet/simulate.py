@@ -249,7 +249,7 @@ class _Run:
         rows = max_trace_rows if trace_idx.size else 0
         self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
         self.profiles = np.zeros((profiles_rows, n if profiles_rows else 0), dtype=np.float64)
-        self.cnt = np.zeros(12, dtype=np.int64)
+        self.cnt = np.zeros(16, dtype=np.int64)
         # local-region context (boundary, times) and the boundary's dense coefficients
         self.loc = np.zeros(K.LOC_SIZE, dtype=np.float64)
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
@@ -520,6 +520,9 @@ def _wrap(
         solo_events=int(run.cnt[8]),
         local_steps=int(run.cnt[9]),
         local_fallbacks=int(run.cnt[10]),
+        partial_block_steps=int(run.cnt[6]),
+        region_block_steps=int(run.cnt[12]),
+        landed_joins=int(run.cnt[13]),
     )
     return SimulationResult(
         events=events,

@@ -6,8 +6,8 @@ import pytest
 
 import faultnet
 from faultnet._kernels.crossing import JOIN
-from faultnet._kernels.dopri import dopri_step
-from faultnet._kernels.integrate import ACT, N_IWORK, D, V, force
+from faultnet._kernels.dopri import LOC_SIZE, cache_boundary, dopri_step
+from faultnet._kernels.integrate import ACT, APOS, BND, N_IWORK, A, D, P, V, accel, force
 from faultnet._kernels.landing import land, septic_coeffs
 from faultnet._kernels.stepping import activate, commit, touch
 from faultnet._kernels.tableau import N_WORK_DOPRI
@@ -53,8 +53,8 @@ def _to_join_step(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
 
 
 @nb.njit(cache=False)
-def _land(th, who, h, nact, W, IW, indptr, indices, kval, diag, oms, cfr):
-    return land(th, who, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+def _land(th, who, h, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    return land(th, who, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
 
 
 @nb.njit(cache=False)
@@ -117,7 +117,7 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
     step_err = np.abs(end).max()
 
     start = W.copy()
-    hl = _land(th, who, h, nact, W, IW, *arrays)
+    hl = _land(th, who, h, 0, nact, W, IW, *arrays, loc)
     assert 0.0 < hl < h
     assert abs(hl / h - th) < 1e-4  # next to the dense output's estimate
     assert abs(_force(who, W, *arrays[:4]) - 1.0) < 1e-13
@@ -126,5 +126,109 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
     landed = np.concatenate([W[act, D] - ref[act, D], W[act, V] - ref[act, V]])
     land_err = np.abs(landed).max()
     print(f"step error {step_err:.2e}, landing error {land_err:.2e}, theta {th:.3f}")
+    assert step_err > 0.0
+    assert land_err <= 2.0 * step_err
+
+
+@nb.njit(cache=False)
+def _slipping(blocks, vel, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Blocks slipping at velocities ``vel`` from displacement 0 (active list in this order)."""
+    nact = np.int64(0)
+    ntouch = np.int64(0)
+    for b in blocks:
+        ntouch = touch(b, w, keys, W, IW, ntouch)
+    for b in blocks:
+        nact, ntouch = activate(
+            b, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+        )
+    for r in range(blocks.shape[0]):
+        W[blocks[r], V] = vel[r]
+    for b in blocks:
+        W[b, A] = accel(b, P, V, W, indptr, indices, kval, diag, oms, cfr)
+    return nact
+
+
+@nb.njit(cache=False)
+def _region_step(h, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    return dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, True, 1e6, loc)
+
+
+@nb.njit(cache=False)
+def _region_fine(h, m, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    """m committed region steps of length h / m, the boundary on the outer dense output."""
+    th0 = loc[2]
+    for s in range(m):
+        loc[2] = th0 + s * h / m / loc[3]
+        dopri_step(h / m, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, False, 1e6, loc)
+        commit(q0, nact, W, IW)
+    loc[2] = th0
+
+
+@nb.njit(cache=False)
+def _cache(r, b, W, IW, loc):
+    cache_boundary(r, b, W, IW, loc)
+
+
+@pytest.mark.parametrize("alpha", [1.0, 2.0])
+@pytest.mark.parametrize("v_boundary", [0.2, 0.8])
+def test_landed_join_inside_a_local_region(alpha, v_boundary):
+    """Blocks 3, 4, 5 of a ring slip; a region {4, 5} with boundary 3 lands 6's join.
+
+    The boundary follows the outer step's dense output, so the region's blocks'
+    jerks and snaps need its velocity and acceleration at the region step's
+    ends (the quartic's derivatives).  The landed state must match a fine
+    integration of the region (its boundary on the same quartic) as closely as
+    the region step's own end does; treating the boundary as still (a mutant)
+    is orders of magnitude off.
+    """
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=alpha)
+    arrays = _arrays(model)
+    n = model.n
+    hh = default_dt(model)
+    W = np.zeros((n, N_WORK_DOPRI))
+    IW = np.zeros((N_IWORK, n), dtype=np.int64)
+    loc = np.zeros(LOC_SIZE)
+    w = 0.0
+    keys = np.full(n, 0.5)  # every touched block well below the threshold ...
+    keys[3] = keys[4] = keys[5] = w  # ... but the slipping ones
+    vel = np.array([v_boundary, 0.5, 0.4])
+    keys[6] = w + 16.0 * 0.4 * 0.45 * hh  # block 6 joins about half-way through the step
+    nact = _slipping(np.array([3, 4, 5]), vel, w, keys, W, IW, *arrays)
+    # the outer step (whole event, not committed): its stages give the boundary's dense output
+    _region_step(hh, 0, nact, W, IW, *arrays, loc)
+    # the region {4, 5} in slots 3, 4 above the outer list; block 3 its boundary
+    q0 = nact
+    for q, b in enumerate((4, 5)):
+        IW[ACT, q0 + q] = b
+        IW[APOS, b] = q0 + q
+    end = q0 + 2
+    IW[BND, 0] = 3
+    loc[0], loc[1], loc[2], loc[3] = 0.0, 1.0, 0.0, hh
+    _cache(0, 3, W, IW, loc)
+    # a region step from a quarter of the outer step to its end
+    th0 = 0.25
+    _region_fine(th0 * hh, 64, q0, end, W, IW, *arrays, loc)
+    loc[2] = th0
+    h = (1.0 - th0) * hh
+    start = W.copy()
+    th, who, kind, status = _region_step(h, q0, end, W, IW, *arrays, loc)
+    assert who == 6 and kind == JOIN and 0.0 < th < 1.0, (th, who, kind)
+    act = np.array([4, 5])
+    fine_end = start.copy()
+    _region_fine(h, 256, q0, end, fine_end, IW, *arrays, loc)
+    step_err = np.abs(
+        np.concatenate([W[act, 4] - fine_end[act, D], W[act, 5] - fine_end[act, V]])
+    ).max()
+
+    hl = _land(th, who, h, q0, end, W, IW, *arrays, loc)
+    assert 0.0 < hl < h
+    assert abs(hl / h - th) < 1e-4
+    assert abs(_force(who, W, *arrays[:4]) - 1.0) < 1e-13
+    ref = start.copy()
+    _region_fine(hl, 256, q0, end, ref, IW, *arrays, loc)
+    land_err = np.abs(np.concatenate([W[act, D] - ref[act, D], W[act, V] - ref[act, V]])).max()
+    # the boundary was placed at the join, and the accelerations use it there
+    assert abs(W[3, P] - ref[3, P]) < 1e-12
+    print(f"region step error {step_err:.2e}, landing error {land_err:.2e}, theta {th:.3f}")
     assert step_err > 0.0
     assert land_err <= 2.0 * step_err

@@ -52,6 +52,7 @@ __all__ = [
     "LOC_SIZE",
     "N_WORK_DOPRI",
     "boundary_at",
+    "boundary_coeffs",
     "boundary_positions",
     "cache_boundary",
     "dense_coeffs",
@@ -75,8 +76,12 @@ def _cache_slot(r, loc):
 
 
 @inline_kernel
-def _outer_dense(b, W, IW, loc):
-    """Dense-output coefficients of boundary block b over the outer step (its outer slot)."""
+def boundary_coeffs(b, W, IW, loc):
+    """Dense-output coefficients of boundary block b over the outer step (its outer slot).
+
+    The position at fraction th of the outer step (length ``loc[3]``) is
+    ``c0 + th (c1 + th (c2 + th (c3 + th c4)))``.
+    """
     return slot_dense(W[b, D], W[b, DN], loc[3], W, IW[APOS, b], KV, W[b, VN])
 
 
@@ -89,7 +94,7 @@ def cache_boundary(r, b, W, IW, loc):
     """
     o = _cache_slot(r, loc)
     if o >= 0:
-        loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4] = _outer_dense(b, W, IW, loc)
+        loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4] = boundary_coeffs(b, W, IW, loc)
 
 
 @kernel
@@ -107,7 +112,7 @@ def boundary_positions(col, th, W, IW, loc):
         if o >= 0:
             c0, c1, c2, c3, c4 = loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4]
         else:
-            c0, c1, c2, c3, c4 = _outer_dense(b, W, IW, loc)
+            c0, c1, c2, c3, c4 = boundary_coeffs(b, W, IW, loc)
         W[b, col] = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
 
 

@@ -202,7 +202,7 @@ def _solo_slip(
     W[i, A] = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
     # work counters: a cached solo slip is set-up, not part of any event (so
     # a run's counters do not depend on how it was cut into calls)
-    c4, c6, c7 = cnt[4], cnt[6], cnt[7]
+    c4, c6, c7, c13 = cnt[4], cnt[6], cnt[7], cnt[13]
     one = np.int64(1)  # not the literal 1: _integrate keeps one compiled signature
     status, t, n, _ = _integrate(
         method,
@@ -227,7 +227,7 @@ def _solo_slip(
         trace_buf,
         cnt,
     )
-    cnt[4], cnt[6], cnt[7] = c4, c6, c7
+    cnt[4], cnt[6], cnt[7], cnt[13] = c4, c6, c7, c13
     s = W[i, D]
     W[i, D] = 0.0
     W[i, P] = 0.0

@@ -1,4 +1,4 @@
-"""Reaching a join without a partial step: Hermite landing (DP5, whole event).
+"""Reaching a join without a partial step: Hermite landing (DP5).
 
 After a full step (D, V, A) -> (DN, VN, AN) in which a stuck block's force
 reaches the threshold, every slipping block's path over the step follows
@@ -21,12 +21,20 @@ accuracy (benchmarks/NOTES.md, session 6).  Whenever the landing is not
 clean (no root next to the estimate, or another block found across its own
 crossing at the join) the caller takes the partial-step path instead.
 
+Inside a local region (:mod:`faultnet._kernels.local`) the same holds for
+the region's blocks over a region step.  Their boundary neighbours follow
+the outer step's dense output, a quartic in time, so their velocities and
+accelerations at the region step's ends are that quartic's derivatives
+(:func:`_boundary_motion`), and the boundary is placed at the join before
+the region's accelerations are recomputed.
+
 Scratch columns (free outside a step), by slot q of the active list:
 ``W[q, KV]``, ``W[q, KV + 1]`` the jerks at the start and the end of the
 step, ``W[q, KV + 3]``, ``W[q, KV + 4]`` the snaps, ``W[q, KV + 2]`` the
 landed velocity.
 """
 
+from faultnet._kernels.dopri import boundary_at, boundary_coeffs
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -116,22 +124,26 @@ def septic_root(th, c0, c1, c2, c3, c4, c5, c6, c7):
 
 
 @inline_kernel
-def _derivs(i, vel, acc, W, IW, indptr, indices, kval, diag, oms, cfr):
-    """Jerk and snap (first and second time derivatives of the acceleration) of block i.
+def _boundary_motion(b, th0, th1, W, IW, loc):
+    """Velocity and acceleration of a local region's boundary block b at outer fractions th0, th1.
 
-    ``vel``, ``acc``: the velocity and acceleration columns (start or end of
-    the step); neighbours that are not slipping have zero velocity and
-    acceleration.
+    The boundary follows the outer step's dense output (a quartic in the
+    fraction of the outer step, length ``loc[3]``), so these are its
+    derivatives, consistent with the positions the region's steps used.
     """
-    sv = 0.0
-    sa = 0.0
-    for p in range(indptr[i], indptr[i + 1]):
-        b = indices[p]
-        if IW[FLAG, b] == ACTIVE:
-            sv += kval[p] * W[b, vel]
-            sa += kval[p] * W[b, acc]
-    v = W[i, vel]
-    a = W[i, acc]
+    c0, c1, c2, c3, c4 = boundary_coeffs(b, W, IW, loc)
+    r = 1.0 / loc[3]
+    r2 = r * r
+    v0 = r * (c1 + th0 * (2.0 * c2 + th0 * (3.0 * c3 + th0 * 4.0 * c4)))
+    v1 = r * (c1 + th1 * (2.0 * c2 + th1 * (3.0 * c3 + th1 * 4.0 * c4)))
+    a0 = r2 * (2.0 * c2 + th0 * (6.0 * c3 + th0 * 12.0 * c4))
+    a1 = r2 * (2.0 * c2 + th1 * (6.0 * c3 + th1 * 12.0 * c4))
+    return v0, a0, v1, a1
+
+
+@inline_kernel
+def _jerk_snap(i, v, a, sv, sa, diag, oms, cfr):
+    """Jerk and snap of block i from its v, a and the spring sums of its neighbours' v, a."""
     den = 1.0 + cfr[i] * v
     if den < 0.5:  # the floored friction (never reached with sane steps) is constant
         return sv - diag[i] * v, sa - diag[i] * a
@@ -140,13 +152,41 @@ def _derivs(i, vel, acc, W, IW, indptr, indices, kval, diag, oms, cfr):
     return j, sa - diag[i] * a + g * (j - 2.0 * cfr[i] * a * a / den)
 
 
+@inline_kernel
+def _derivs(i, q0, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    """Jerk and snap (time derivatives of the acceleration) of block i at both ends of the step.
+
+    Neighbours that are not slipping have zero velocity and acceleration; a
+    local region's boundary blocks (slipping, in the outer list below ``q0``)
+    move on the outer step's dense output, between its fractions th0 and th1.
+    """
+    sv0 = sa0 = sv1 = sa1 = 0.0
+    for p in range(indptr[i], indptr[i + 1]):
+        b = indices[p]
+        if IW[FLAG, b] == ACTIVE:
+            c = kval[p]
+            if IW[APOS, b] < q0:
+                v0, a0, v1, a1 = _boundary_motion(b, th0, th1, W, IW, loc)
+            else:
+                v0, a0, v1, a1 = W[b, V], W[b, A], W[b, VN], W[b, AN]
+            sv0 += c * v0
+            sa0 += c * a0
+            sv1 += c * v1
+            sa1 += c * a1
+    j0, s0 = _jerk_snap(i, W[i, V], W[i, A], sv0, sa0, diag, oms, cfr)
+    j1, s1 = _jerk_snap(i, W[i, VN], W[i, AN], sv1, sa1, diag, oms, cfr)
+    return j0, s0, j1, s1
+
+
 @kernel
-def _join_theta(th, who, h, W, IW, indptr, indices, kval, diag):
+def _join_theta(th, who, h, q0, W, IW, indptr, indices, kval, diag):
     """Where the force on stuck block ``who`` reaches 1 on the step's interpolant; -1.0 if not
     next to ``th``.
 
     The force is linear in the positions and stuck neighbours do not move, so
     its derivatives are sums over the slipping neighbours (their jerks by slot).
+    Inside a local region those are the region's blocks (a join next to its
+    boundary leaves the region: the scan returns theta 0, never landed here).
     """
     h2 = h * h
     h3 = h2 * h
@@ -156,6 +196,8 @@ def _join_theta(th, who, h, W, IW, indptr, indices, kval, diag):
         if IW[FLAG, b] == ACTIVE:
             c = kval[r]
             q = IW[APOS, b]
+            if q < q0:
+                return -1.0
             g0 += c * W[b, V]
             g1 += c * W[b, VN]
             a0 += c * W[b, A]
@@ -176,16 +218,16 @@ def _join_theta(th, who, h, W, IW, indptr, indices, kval, diag):
 
 
 @kernel
-def _place(t, who, h, nact, W, IW, indptr, indices, kval, diag):
+def _place(t, who, h, q0, nact, W, IW, indptr, indices, kval, diag, loc):
     """Every slipping block's interpolated position (P, P2) and velocity (slot column) at ``t``.
 
     Returns True when no other block has crossed by then: every slipping
     block still moves forward and every other stuck neighbour is below the
-    threshold.
+    threshold.  Inside a local region its boundary is placed at ``t`` too.
     """
     h2 = h * h
     h3 = h2 * h
-    for q in range(nact):
+    for q in range(q0, nact):
         i = IW[ACT, q]
         j0 = W[q, _J0]
         j1 = W[q, _J1]
@@ -204,7 +246,9 @@ def _place(t, who, h, nact, W, IW, indptr, indices, kval, diag):
         if v < 0.0:
             return False
         W[q, _VL] = v
-    for q in range(nact):
+    if q0 > 0:
+        boundary_at(loc[2] + t * h / loc[3], W, IW, loc)
+    for q in range(q0, nact):
         i = IW[ACT, q]
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
@@ -215,24 +259,32 @@ def _place(t, who, h, nact, W, IW, indptr, indices, kval, diag):
 
 
 @kernel
-def land(th, who, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
-    """Move the whole event to the join of ``who`` inside the step just taken; commit there.
+def land(th, who, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
+    """Move the slipping blocks ``IW[ACT, q0:nact]`` to the join of ``who`` inside the step just
+    taken; commit there.
 
     ``th`` is the dense output's estimate of the join (a fraction of the
-    step of length ``h``).  Returns the time advanced, or -1.0 when the
-    landing is not clean; the committed state (D, V, A) is then unchanged and
-    the positions P, P2 of the slipping blocks are rewritten by the next step.
+    step of length ``h``).  Inside a local region (``q0 > 0``) the step
+    starts at fraction ``loc[2]`` of the outer step, whose dense output its
+    boundary follows.  Returns the time advanced, or -1.0 when the landing is
+    not clean; the committed state (D, V, A) is then unchanged and the
+    positions P, P2 of the slipping blocks are rewritten by the next step.
     """
-    for q in range(nact):
+    th0 = th1 = 0.0
+    if q0 > 0:
+        th0 = loc[2]
+        th1 = th0 + h / loc[3]
+    for q in range(q0, nact):
         i = IW[ACT, q]
-        W[q, _J0], W[q, _S0] = _derivs(i, V, A, W, IW, indptr, indices, kval, diag, oms, cfr)
-        W[q, _J1], W[q, _S1] = _derivs(i, VN, AN, W, IW, indptr, indices, kval, diag, oms, cfr)
-    t = _join_theta(th, who, h, W, IW, indptr, indices, kval, diag)
+        W[q, _J0], W[q, _S0], W[q, _J1], W[q, _S1] = _derivs(
+            i, q0, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc
+        )
+    t = _join_theta(th, who, h, q0, W, IW, indptr, indices, kval, diag)
     if t < 0.0:
         return -1.0
-    if not _place(t, who, h, nact, W, IW, indptr, indices, kval, diag):
+    if not _place(t, who, h, q0, nact, W, IW, indptr, indices, kval, diag, loc):
         return -1.0
-    for q in range(nact):
+    for q in range(q0, nact):
         i = IW[ACT, q]
         x = W[i, P]
         W[i, D] = x
@@ -240,7 +292,7 @@ def land(th, who, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
         v = W[q, _VL]
         W[i, V] = v
         W[i, VN] = v
-    for q in range(nact):
+    for q in range(q0, nact):
         i = IW[ACT, q]
         a = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
         W[i, A] = a

@@ -480,8 +480,10 @@ def local_step(
     Returns (status, nact, ntouch, steps, candidates, done).  ``done`` False:
     nothing changed since the full step (every region undone), the caller
     handles the step as usual.  Counters: ``cnt[9]`` steps done locally,
-    ``cnt[10]`` fallbacks.
+    ``cnt[10]`` fallbacks, ``cnt[12]`` block-steps inside the regions (undone
+    attempts included).
     """
+    c4 = cnt[4]
     loc[5] = _new_id(cnt)  # saves are kept once per step, whatever the attempt
     loc[3] = hh
     loc[4] = 0.0
@@ -501,6 +503,7 @@ def local_step(
             loc[0] = 0.0
             loc[1] = 0.0
             cnt[9] += 1
+            cnt[12] += cnt[4] - c4
             return STATUS_OK, nact, ntouch, steps, ncand0, True
         _restore(nact, W, IW, loc)
         if status != STATUS_OK or esc < 0 or ncand >= IW.shape[1]:
@@ -510,4 +513,5 @@ def local_step(
     loc[0] = 0.0
     loc[1] = 0.0
     cnt[10] += 1
+    cnt[12] += cnt[4] - c4
     return status, nact, ntouch, steps, ncand0, False

@@ -274,7 +274,7 @@ def to_crossing(
 ):
     """Reach the crossing found at fraction ``th`` of a step of length ``h``; commit there.
 
-    A join in the whole event (DP5) is landed on the step's interpolant
+    A join (DP5) is landed on the step's interpolant
     (:func:`faultnet._kernels.landing.land`).  Otherwise, or when that landing
     is not clean: a partial step to the crossing; if another crossing is found
     earlier inside it, go to that one instead; then Newton-polish the crossing
@@ -285,11 +285,11 @@ def to_crossing(
     if th <= 0.0:
         restore_positions(q0, nact, W, IW)
         return 0.0, who, kind, n, STATUS_OK
-    if method == 1 and kind == JOIN and q0 == 0:
-        # a join in the whole event (DP5; a local region has q0 > 0): land on the step's
-        # interpolant (landing.py)
-        hl = land(th, who, h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
+    if method == 1 and kind == JOIN:
+        # a join (DP5): land on the step's interpolant (landing.py)
+        hl = land(th, who, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
         if hl >= 0.0:
+            cnt[13] += 1
             return hl, who, kind, n, STATUS_OK
     hmax = h
     m = nact - q0
