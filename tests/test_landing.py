@@ -1,14 +1,33 @@
-"""Landing on a join (faultnet._kernels.landing) against a finely integrated reference."""
+"""Landing on a join (faultnet._kernels.landing) against a finely integrated reference.
+
+Also the crossings a local region starts from: those the outer step located.
+"""
 
 import numba as nb
 import numpy as np
 import pytest
 
 import faultnet
-from faultnet._kernels.crossing import JOIN
-from faultnet._kernels.dopri import LOC_SIZE, cache_boundary, dopri_step
-from faultnet._kernels.integrate import ACT, APOS, BND, N_IWORK, A, D, P, V, accel, force
+from faultnet._kernels.crossing import JOIN, STICK
+from faultnet._kernels.dopri import LOC_SIZE, LOC_THETA, cache_boundary, dopri_step
+from faultnet._kernels.integrate import (
+    ACT,
+    ACTIVE,
+    APOS,
+    BND,
+    CAND,
+    FLAG,
+    N_IWORK,
+    REGION,
+    A,
+    D,
+    P,
+    V,
+    accel,
+    force,
+)
 from faultnet._kernels.landing import land, septic_coeffs
+from faultnet._kernels.local import _collect, _first_crossing
 from faultnet._kernels.stepping import activate, commit, touch
 from faultnet._kernels.tableau import N_WORK_DOPRI
 from faultnet.simulate import default_dt
@@ -54,7 +73,8 @@ def _to_join_step(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
 
 @nb.njit(cache=False)
 def _land(th, who, h, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
-    return land(th, who, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
+    """A whole event's landing (q0 = 0) or a region's, on the region's step (qb = q0)."""
+    return land(th, who, h, q0, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
 
 
 @nb.njit(cache=False)
@@ -232,3 +252,67 @@ def test_landed_join_inside_a_local_region(alpha, v_boundary):
     print(f"region step error {step_err:.2e}, landing error {land_err:.2e}, theta {th:.3f}")
     assert step_err > 0.0
     assert land_err <= 2.0 * step_err
+
+
+# A local region's first crossing, where the outer step located it (local._collect,
+# local._first_crossing): reached from the outer step, a join landed on it (qb = 0).
+
+
+@nb.njit(cache=False)
+def _first(cid, ncand, IW, loc):
+    return _first_crossing(cid, ncand, IW, loc)
+
+
+@nb.njit(cache=False)
+def _outer_scan_and_collect(h, nact, mark, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    th, who, kind, status = dopri_step(
+        h, 0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, True, 1e6, loc
+    )
+    return th, who, kind, _collect(h, nact, mark, W, IW, indptr, indices, kval, diag, loc)
+
+
+def test_first_crossing_is_the_earliest_located_candidate_of_the_component():
+    n = 20
+    IW = np.zeros((N_IWORK, n), dtype=np.int64)
+    loc = np.zeros(LOC_SIZE)
+    cand = [4, 9, 11, 15]
+    theta = [0.7, 0.2, 0.5, 0.1]
+    for k, (c, t) in enumerate(zip(cand, theta, strict=True)):
+        IW[CAND, k] = c
+        loc[LOC_THETA + k] = t
+    IW[REGION, [4, 9, 11]] = 5
+    IW[REGION, 15] = 6
+    IW[FLAG, 9] = ACTIVE  # a stop; the others are joins
+    assert _first(5, 4, IW, loc) == (0.2, 9, STICK)
+    assert _first(6, 4, IW, loc) == (0.1, 15, JOIN)
+    assert _first(5, 0, IW, loc)[1] == -1  # a retry: nothing located
+    assert _first(7, 4, IW, loc)[1] == -1  # no candidate
+    loc[LOC_THETA + 2] = 2.0  # one candidate of the component not located (a grazing stop)
+    assert _first(5, 4, IW, loc)[1] == -1
+    assert _first(6, 4, IW, loc) == (0.1, 15, JOIN)
+
+
+@pytest.mark.parametrize("v_boundary", [0.2, 0.8])
+def test_collected_crossings_match_the_outer_scan(v_boundary):
+    """The thetas _collect keeps are the DP5 scan's: its earliest is the scan's crossing."""
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=1.0)
+    arrays = _arrays(model)
+    h = default_dt(model)
+    W = np.zeros((model.n, N_WORK_DOPRI))
+    IW = np.zeros((N_IWORK, model.n), dtype=np.int64)
+    loc = np.zeros(LOC_SIZE)
+    keys = np.full(model.n, 0.5)
+    keys[[3, 4, 5]] = 0.0
+    keys[6] = 16.0 * 0.4 * 0.45 * h  # joins about half-way through the step
+    keys[2] = 16.0 * v_boundary * 0.6 * h  # joins later, or not at all
+    nact = _slipping(
+        np.array([3, 4, 5]), np.array([v_boundary, 0.5, 0.4]), 0.0, keys, W, IW, *arrays
+    )
+    th, who, kind, ncand = _outer_scan_and_collect(h, nact, 99, W, IW, *arrays, loc)
+    assert kind == JOIN and 0.0 < th < 1.0
+    got = dict(
+        zip(IW[CAND, :ncand].tolist(), loc[LOC_THETA : LOC_THETA + ncand].tolist(), strict=True)
+    )
+    assert who in got
+    assert min(got.values()) == pytest.approx(th, abs=1e-13)
+    assert got[who] == pytest.approx(th, abs=1e-13)

@@ -50,6 +50,8 @@ __all__ = [
     "KV",
     "LOC_CACHE",
     "LOC_SIZE",
+    "LOC_THETA",
+    "THETA_CACHE",
     "N_WORK_DOPRI",
     "boundary_at",
     "boundary_coeffs",
@@ -64,15 +66,19 @@ __all__ = [
 LOC_CACHE = 6
 #: boundary blocks whose coefficients are kept (more are evaluated from their stages)
 BOUNDARY_CACHE = 4096
+#: ``loc[LOC_THETA + k]``: where the outer step put local candidate k's crossing
+LOC_THETA = LOC_CACHE + 5 * BOUNDARY_CACHE
+#: candidates whose crossing is kept (the others have none)
+THETA_CACHE = 4096
 #: length of ``loc``
-LOC_SIZE = LOC_CACHE + 5 * BOUNDARY_CACHE
+LOC_SIZE = LOC_THETA + THETA_CACHE
 
 
 @inline_kernel
 def _cache_slot(r, loc):
     """Offset in ``loc`` of boundary entry r's coefficients, or -1 beyond the cache."""
     o = LOC_CACHE + 5 * r
-    return o if o + 5 <= loc.shape[0] else -1
+    return o if r < BOUNDARY_CACHE and o + 5 <= loc.shape[0] else -1
 
 
 @inline_kernel

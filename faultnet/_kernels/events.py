@@ -349,8 +349,8 @@ def _integrate(
                     h_local = min(dt, 2.0 * h_local)
             if not done:
                 h, who, kind, n, status = to_crossing(
-                    th, who, kind, h, method, zero, nact, IW, W, indptr, indices, kval, diag,
-                    oms, cfr, vmax, loc, cnt,
+                    th, who, kind, h, method, zero, zero, nact, IW, W, indptr, indices, kval,
+                    diag, oms, cfr, vmax, loc, cnt,
                 )  # fmt: skip
                 nsteps += n
                 if status != STATUS_OK:

@@ -153,11 +153,11 @@ def _jerk_snap(i, v, a, sv, sa, diag, oms, cfr):
 
 
 @inline_kernel
-def _derivs(i, q0, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _derivs(i, qb, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     """Jerk and snap (time derivatives of the acceleration) of block i at both ends of the step.
 
     Neighbours that are not slipping have zero velocity and acceleration; a
-    local region's boundary blocks (slipping, in the outer list below ``q0``)
+    local region's boundary blocks (slipping, in the outer list below ``qb``)
     move on the outer step's dense output, between its fractions th0 and th1.
     """
     sv0 = sa0 = sv1 = sa1 = 0.0
@@ -165,7 +165,7 @@ def _derivs(i, q0, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
         b = indices[p]
         if IW[FLAG, b] == ACTIVE:
             c = kval[p]
-            if IW[APOS, b] < q0:
+            if IW[APOS, b] < qb:
                 v0, a0, v1, a1 = _boundary_motion(b, th0, th1, W, IW, loc)
             else:
                 v0, a0, v1, a1 = W[b, V], W[b, A], W[b, VN], W[b, AN]
@@ -259,25 +259,27 @@ def _place(t, who, h, q0, nact, W, IW, indptr, indices, kval, diag, loc):
 
 
 @kernel
-def land(th, who, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
+def land(th, who, h, q0, qb, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
     """Move the slipping blocks ``IW[ACT, q0:nact]`` to the join of ``who`` inside the step just
     taken; commit there.
 
     ``th`` is the dense output's estimate of the join (a fraction of the
     step of length ``h``).  Inside a local region (``q0 > 0``) the step
     starts at fraction ``loc[2]`` of the outer step, whose dense output its
-    boundary follows.  Returns the time advanced, or -1.0 when the landing is
-    not clean; the committed state (D, V, A) is then unchanged and the
-    positions P, P2 of the slipping blocks are rewritten by the next step.
+    boundary (slipping blocks with ``IW[APOS] < qb``) follows; with ``qb = 0``
+    the step is the outer step itself, every block at its ends.  Returns the
+    time advanced, or -1.0 when the landing is not clean; the committed state
+    (D, V, A) is then unchanged and the positions P, P2 of the slipping blocks
+    are rewritten by the next step.
     """
     th0 = th1 = 0.0
-    if q0 > 0:
+    if qb > 0:
         th0 = loc[2]
         th1 = th0 + h / loc[3]
     for q in range(q0, nact):
         i = IW[ACT, q]
         W[q, _J0], W[q, _S0], W[q, _J1], W[q, _S1] = _derivs(
-            i, q0, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc
+            i, qb, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc
         )
     t = _join_theta(th, who, h, q0, W, IW, indptr, indices, kval, diag)
     if t < 0.0:

@@ -43,8 +43,8 @@ outer step length ``loc[3]``, number of saved blocks ``loc[4]``, step id
 
 import numpy as np
 
-from faultnet._kernels.crossing import STATUS_OK, stick_theta
-from faultnet._kernels.dopri import boundary_at, cache_boundary
+from faultnet._kernels.crossing import JOIN, STATUS_OK, STICK, join_theta, stick_theta
+from faultnet._kernels.dopri import LOC_THETA, THETA_CACHE, boundary_at, cache_boundary
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -121,25 +121,71 @@ def _restore(nact, W, IW, loc):
         IW[APOS, IW[ACT, q]] = q
 
 
+@inline_kernel
+def _candidate(n, b, th, IW, loc):
+    """Candidate n is block b, whose crossing the outer step put at ``th`` (2.0: not located)."""
+    IW[CAND, n] = b
+    if n < THETA_CACHE:
+        loc[LOC_THETA + n] = th
+
+
 @kernel
-def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag):
-    """Every block with a crossing inside the full step just taken, into ``IW[CAND]``."""
+def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc):
+    """Every block with a crossing inside the full step just taken, into ``IW[CAND]``.
+
+    Where the outer step's dense output puts the crossing is kept in ``loc``
+    for a clean crossing (a stop where v changes sign, a join where the force
+    crosses 1), so that a region can reach its first crossing from the outer
+    step; a stop at a dip of v (a grazing crossing) is not located.
+    """
     n = 0
+    zero = n - n  # int64, not a literal: the scan's signature of join_theta
     for q in range(nact):
         i = IW[ACT, q]
         if W[i, VN] <= 0.0 or W[i, A] < 0.0:
             # the literal method as in the DP5 step's scan: one compiled signature
-            if stick_theta(1, hh, q, i, W) <= 1.0:
-                IW[CAND, n] = i
+            th = stick_theta(1, hh, q, i, W)
+            if th <= 1.0:
+                _candidate(n, i, th if W[i, V] > 0.0 and W[i, VN] <= 0.0 else 2.0, IW, loc)
                 n += 1
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
             if IW[FLAG, j] != ACTIVE and IW[MARK, j] != mark:
-                if force(j, P2, W, indptr, indices, kval, diag) >= 1.0:
+                f1 = force(j, P2, W, indptr, indices, kval, diag)
+                if f1 >= 1.0:
                     IW[MARK, j] = mark
-                    IW[CAND, n] = j
+                    f0 = force(j, D, W, indptr, indices, kval, diag)
+                    th = 0.0
+                    if f0 < 1.0:
+                        th = join_theta(1, hh, zero, j, f0, f1, W, IW, indptr, indices, kval)
+                    _candidate(n, j, th, IW, loc)
                     n += 1
     return n
+
+
+@kernel
+def _first_crossing(cid, ncand, IW, loc):
+    """The earliest crossing the outer step located among component cid's candidates.
+
+    Returns (theta, block, kind); block -1 when a candidate of the component
+    was not located (then the region finds its first crossing itself).
+    """
+    best = 2.0
+    who = ncand - ncand - 1
+    for k in range(ncand):
+        c = IW[CAND, k]
+        if IW[REGION, c] != cid:
+            continue
+        th = loc[LOC_THETA + k] if k < THETA_CACHE else 2.0
+        if th > 1.0:
+            return 2.0, ncand - ncand - 1, who - who
+        if th < best:
+            best = th
+            who = c
+    if who < 0:
+        return 2.0, who, who - who
+    kind = who - who + (STICK if IW[FLAG, who] == ACTIVE else JOIN)
+    return best, who, kind
 
 
 @kernel
@@ -257,10 +303,15 @@ def _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc)
 
 @inline_kernel
 def _sub_run(
-    hh, q0, nact, ntouch, cur, base, step_id, s0, w, keys, W, IW, indptr, indices, kval, diag, oms,
-    cfr, ctrl, loc, cnt,
+    hh, q0, nact, ntouch, cur, base, step_id, s0, th1, who1, kind1, w, keys, W, IW, indptr,
+    indices, kval, diag, oms, cfr, ctrl, loc, cnt,
 ):  # fmt: skip
     """Integrate the region ``IW[ACT, q0:nact]`` over the whole outer step (length hh).
+
+    With ``who1 >= 0`` the region's first crossing is block who1's (kind1),
+    where the outer step put it (fraction th1): it is reached from the outer
+    step's start, a join landed on the outer step itself, without a first
+    region step over the whole outer step.
 
     Returns (status, end of the region's list, ntouch, steps, escaper): a
     block whose crossing reaches outside the region (the caller grows the
@@ -276,19 +327,25 @@ def _sub_run(
         if h <= 1e-12 * hh:
             break
         loc[2] = tau / hh
-        th, who, kind, status = step_scan(
-            1, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
-        )
-        n += 1
-        cnt[4] += nact - q0
-        if status != STATUS_OK:
-            return status, nact, ntouch, n, -1
-        if who < 0:
-            commit(q0, nact, W, IW)
-            break
+        qb = q0  # a join is landed on the region's step (boundary on the outer dense output)
+        if who1 >= 0:
+            th, who, kind = th1, who1, kind1
+            who1 = -1
+            qb = q0 - q0  # ... or on the outer step, every block at its ends
+        else:
+            th, who, kind, status = step_scan(
+                1, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
+            )
+            n += 1
+            cnt[4] += nact - q0
+            if status != STATUS_OK:
+                return status, nact, ntouch, n, -1
+            if who < 0:
+                commit(q0, nact, W, IW)
+                break
         hs, who, kind, k, status = to_crossing(
-            th, who, kind, h, 1, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax,
-            loc, cnt,
+            th, who, kind, h, 1, q0, qb, nact, IW, W, indptr, indices, kval, diag, oms, cfr,
+            vmax, loc, cnt,
         )  # fmt: skip
         n += k
         if status != STATUS_OK:
@@ -420,9 +477,14 @@ def _component(s, cur, cid, q, IW, indptr, indices):
 
 @inline_kernel
 def _attempt(
-    hh, nact, ncand, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
+    hh, nact, ncand, nfirst, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
+    loc, cnt,
 ):  # fmt: skip
     """Regions around the candidates ``IW[CAND, :ncand]``, each integrated over the step.
+
+    A region whose candidates are all among the first ``nfirst`` (located by
+    the outer step, whose end state its blocks still hold) starts from its
+    earliest crossing (:func:`_first_crossing`).
 
     Returns (status, nres, ntouch, steps, escaper): the regions' slipping
     blocks at the end are ``IW[RES, :nres]``; ``escaper`` >= 0 names a block
@@ -447,9 +509,10 @@ def _attempt(
         s0 = int(loc[4])
         if end < 0 or not _enclose(cid, base, uend, end, step_id, W, IW, indptr, indices, loc):
             return STATUS_OK, nres, ntouch, steps, np.int64(-2)
+        th1, who1, kind1 = _first_crossing(cid, nfirst, IW, loc)
         status, end, ntouch, n, esc = _sub_run(
-            hh, uend, end, ntouch, cid, base, step_id, s0, w, keys, W, IW, indptr, indices, kval,
-            diag, oms, cfr, ctrl, loc, cnt,
+            hh, uend, end, ntouch, cid, base, step_id, s0, th1, who1, kind1, w, keys, W, IW,
+            indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt,
         )  # fmt: skip
         steps += n
         if status != STATUS_OK or esc >= 0:
@@ -487,15 +550,18 @@ def local_step(
     loc[5] = _new_id(cnt)  # saves are kept once per step, whatever the attempt
     loc[3] = hh
     loc[4] = 0.0
-    ncand = _collect(hh, nact, _new_id(cnt), W, IW, indptr, indices, kval, diag)
+    ncand = _collect(hh, nact, _new_id(cnt), W, IW, indptr, indices, kval, diag, loc)
     ncand0 = ncand
     steps = 0
-    for _ in range(_MAX_ATTEMPTS):
+    for attempt in range(_MAX_ATTEMPTS):
         loc[0] = 0.0
         loc[1] = 0.0
+        # a retry starts every region with a step of its own (the regions' blocks no longer
+        # hold the outer step's end state)
+        nfirst = ncand if attempt == 0 else ncand - ncand
         status, nres, ntouch, n, esc = _attempt(
-            hh, nact, ncand, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr,
-            ctrl, loc, cnt,
+            hh, nact, ncand, nfirst, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms,
+            cfr, ctrl, loc, cnt,
         )  # fmt: skip
         steps += n
         if status == STATUS_OK and esc == -1:

@@ -270,12 +270,15 @@ def restore_positions(q0, nact, W, IW):
 
 @inline_kernel
 def to_crossing(
-    th, who, kind, h, method, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc, cnt
-):
+    th, who, kind, h, method, q0, qb, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc,
+    cnt,
+):  # fmt: skip
     """Reach the crossing found at fraction ``th`` of a step of length ``h``; commit there.
 
     A join (DP5) is landed on the step's interpolant
-    (:func:`faultnet._kernels.landing.land`).  Otherwise, or when that landing
+    (:func:`faultnet._kernels.landing.land`; a local region's boundary blocks,
+    ``IW[APOS] < qb``, move on the outer step's dense output, ``qb = 0``: every
+    block is at the step's ends).  Otherwise, or when that landing
     is not clean: a partial step to the crossing; if another crossing is found
     earlier inside it, go to that one instead; then Newton-polish the crossing
     to round-off and commit.  ``th == 0`` (a crossing at the start) discards
@@ -287,7 +290,7 @@ def to_crossing(
         return 0.0, who, kind, n, STATUS_OK
     if method == 1 and kind == JOIN:
         # a join (DP5): land on the step's interpolant (landing.py)
-        hl = land(th, who, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
+        hl = land(th, who, h, q0, qb, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
         if hl >= 0.0:
             cnt[13] += 1
             return hl, who, kind, n, STATUS_OK
