@@ -31,6 +31,7 @@ from faultnet._kernels.tableau import KA, KV, dense_coeffs, slot_dense
 
 __all__ = [
     "JOIN",
+    "LANDED",
     "STICK",
     "STATUS_EVENT_TOO_LONG",
     "STATUS_NONFINITE",
@@ -51,6 +52,9 @@ STATUS_EVENT_TOO_LONG = -3
 
 STICK = 1
 JOIN = 2
+#: a join reached by landing on a step's interpolant (landing.py), which has checked that no
+#: other stuck neighbour is at the threshold there
+LANDED = 3
 
 
 @kernel

@@ -13,6 +13,7 @@ from numba.extending import overload
 
 from faultnet._kernels.crossing import (
     JOIN,
+    LANDED,
     STATUS_OK,
     STICK,
     earliest_crossing,
@@ -282,7 +283,8 @@ def to_crossing(
     is not clean: a partial step to the crossing; if another crossing is found
     earlier inside it, go to that one instead; then Newton-polish the crossing
     to round-off and commit.  ``th == 0`` (a crossing at the start) discards
-    the step.  Returns (time advanced, block, kind, steps taken, status).
+    the step.  Returns (time advanced, block, kind, steps taken, status); kind
+    ``LANDED`` for a landed join.
     """
     n = 0
     if th <= 0.0:
@@ -293,7 +295,7 @@ def to_crossing(
         hl = land(th, who, h, q0, qb, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
         if hl >= 0.0:
             cnt[13] += 1
-            return hl, who, kind, n, STATUS_OK
+            return hl, who, kind - kind + LANDED, n, STATUS_OK
     hmax = h
     m = nact - q0
     for _ in range(64):
@@ -326,16 +328,19 @@ def apply_crossing(
 ):
     """After committing at a crossing: joins (``who`` and any other block at threshold), then stops.
 
-    Returns (nact, ntouch).
+    After a landed join (kind ``LANDED``) no other block is at the threshold
+    (:func:`faultnet._kernels.landing.land` checked every stuck neighbour
+    there), so the scan for joins is skipped.  Returns (nact, ntouch).
     """
-    if kind == JOIN and IW[FLAG, who] != ACTIVE:
+    if kind != STICK and IW[FLAG, who] != ACTIVE:
         nact, ntouch = activate(
             who, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
         )
-    # joins first: the neighbours of a block that sticks now are scanned too
-    nact, ntouch = join_scan(
-        q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-    )
+    if kind != LANDED:
+        # joins first: the neighbours of a block that sticks now are scanned too
+        nact, ntouch = join_scan(
+            q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+        )
     if kind == STICK and IW[FLAG, who] == ACTIVE:
         nact = deactivate(who, nact, W, IW)
     nact = stick_scan(q0, nact, W, IW)
