@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 import faultnet
+from faultnet._kernels.context import LOC_NCAND, LOC_SIZE, LOC_THETA
 from faultnet._kernels.crossing import JOIN, STICK
-from faultnet._kernels.dopri import LOC_SIZE, LOC_THETA, cache_boundary, dopri_step
+from faultnet._kernels.dopri import cache_boundary, dopri_step
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -27,7 +28,7 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.landing import land, septic_coeffs
-from faultnet._kernels.local import _collect, _first_crossing
+from faultnet._kernels.local import _collect, _first_crossing, _listed
 from faultnet._kernels.stepping import activate, commit, touch
 from faultnet._kernels.tableau import N_WORK_DOPRI
 from faultnet.simulate import default_dt
@@ -264,11 +265,23 @@ def _first(cid, ncand, IW, loc):
 
 
 @nb.njit(cache=False)
-def _outer_scan_and_collect(h, nact, mark, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _outer_scan(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    """A whole-event step whose scan also lists every crossing (scan mode 2)."""
+    loc[LOC_NCAND] = 0.0
     th, who, kind, status = dopri_step(
-        h, 0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, True, 1e6, loc
+        h, 0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, 2, 1e6, loc
     )
-    return th, who, kind, _collect(h, nact, mark, W, IW, indptr, indices, kval, diag, loc)
+    return th, who, kind
+
+
+@nb.njit(cache=False)
+def _listed_(mark, IW, loc):
+    return _listed(mark, IW, loc)
+
+
+@nb.njit(cache=False)
+def _collect_(h, nact, mark, W, IW, indptr, indices, kval, diag, loc):
+    return _collect(h, nact, mark, W, IW, indptr, indices, kval, diag, loc)
 
 
 def test_first_crossing_is_the_earliest_located_candidate_of_the_component():
@@ -293,8 +306,12 @@ def test_first_crossing_is_the_earliest_located_candidate_of_the_component():
 
 
 @pytest.mark.parametrize("v_boundary", [0.2, 0.8])
-def test_collected_crossings_match_the_outer_scan(v_boundary):
-    """The thetas _collect keeps are the DP5 scan's: its earliest is the scan's crossing."""
+def test_listed_crossings_match_the_outer_scan(v_boundary):
+    """The crossings the scan lists (each block once) are _collect's, with the scan's thetas.
+
+    Blocks 3, 4, 5 and 7 of a ring slip: 6 joins, next to two slipping blocks
+    (listed twice by the scan), 2 joins later or not at all.
+    """
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=1.0)
     arrays = _arrays(model)
     h = default_dt(model)
@@ -302,17 +319,21 @@ def test_collected_crossings_match_the_outer_scan(v_boundary):
     IW = np.zeros((N_IWORK, model.n), dtype=np.int64)
     loc = np.zeros(LOC_SIZE)
     keys = np.full(model.n, 0.5)
-    keys[[3, 4, 5]] = 0.0
-    keys[6] = 16.0 * 0.4 * 0.45 * h  # joins about half-way through the step
+    keys[[3, 4, 5, 7]] = 0.0
+    keys[6] = 16.0 * (0.4 + 0.3) * 0.45 * h  # joins about half-way through the step
     keys[2] = 16.0 * v_boundary * 0.6 * h  # joins later, or not at all
-    nact = _slipping(
-        np.array([3, 4, 5]), np.array([v_boundary, 0.5, 0.4]), 0.0, keys, W, IW, *arrays
-    )
-    th, who, kind, ncand = _outer_scan_and_collect(h, nact, 99, W, IW, *arrays, loc)
+    vel = np.array([v_boundary, 0.5, 0.4, 0.3])
+    nact = _slipping(np.array([3, 4, 5, 7]), vel, 0.0, keys, W, IW, *arrays)
+    th, who, kind = _outer_scan(h, nact, W, IW, *arrays, loc)
     assert kind == JOIN and 0.0 < th < 1.0
-    got = dict(
-        zip(IW[CAND, :ncand].tolist(), loc[LOC_THETA : LOC_THETA + ncand].tolist(), strict=True)
-    )
-    assert who in got
-    assert min(got.values()) == pytest.approx(th, abs=1e-13)
+    raw = IW[CAND, : int(loc[LOC_NCAND])].tolist()
+    assert raw.count(6) == 2
+    n = _listed_(98, IW, loc)
+    listed = IW[CAND, :n].tolist(), loc[LOC_THETA : LOC_THETA + n].tolist()
+    n = _collect_(h, nact, 99, W, IW, *arrays[:4], loc)
+    collected = IW[CAND, :n].tolist(), loc[LOC_THETA : LOC_THETA + n].tolist()
+    assert listed == collected
+    got = dict(zip(*listed, strict=True))
+    assert sorted(got) == sorted(set(raw))
     assert got[who] == pytest.approx(th, abs=1e-13)
+    assert min(got.values()) == got[who]

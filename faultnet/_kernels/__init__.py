@@ -4,6 +4,7 @@ The public Python layer (:mod:`faultnet.simulate`) validates input, allocates
 every array, calls these kernels and turns their status codes into exceptions.
 """
 
+from faultnet._kernels.context import LOC_SIZE
 from faultnet._kernels.crossing import (
     STATUS_EVENT_TOO_LONG,
     STATUS_NONFINITE,
@@ -11,7 +12,7 @@ from faultnet._kernels.crossing import (
     STATUS_RUNAWAY,
     STATUS_SLIPS_FULL,
 )
-from faultnet._kernels.dopri import LOC_SIZE, N_WORK_DOPRI
+from faultnet._kernels.dopri import N_WORK_DOPRI
 from faultnet._kernels.events import run_events_dopri5, run_events_rk4
 from faultnet._kernels.integrate import N_IWORK
 from faultnet._kernels.tree import build_keys_and_tree, empty_tree

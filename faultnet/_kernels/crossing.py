@@ -9,11 +9,13 @@ and the rare stops of a block that joined at rest or dips below zero).
 
 import numpy as np
 
+from faultnet._kernels.context import LOC_NCAND, LOC_THETA, THETA_CACHE
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
     AN,
     APOS,
+    CAND,
     FLAG,
     VN,
     A,
@@ -111,15 +113,36 @@ def join_theta(method, h, q0, j, f0, f1, W, IW, indptr, indices, kval):
 
 
 @inline_kernel
+def _list(b, th, IW, loc):
+    """Append block b's crossing (at fraction th, 2.0: not located) to ``IW[CAND]``.
+
+    The count is ``loc[LOC_NCAND]``; -1 once the row is full (the list is then
+    not used).
+    """
+    n = int(loc[LOC_NCAND])
+    if n >= IW.shape[1]:
+        loc[LOC_NCAND] = -1.0
+    elif n >= 0:
+        IW[CAND, n] = b
+        if n < THETA_CACHE:
+            loc[LOC_THETA + n] = th
+        loc[LOC_NCAND] = n + 1.0
+
+
+@inline_kernel
 def block_crossings(
-    method, h, q0, q, i, pos, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
-):
+    method, h, q0, q, i, pos, vmax, best, who, kind, listing, W, IW, indptr, indices, kval, diag,
+    loc,
+):  # fmt: skip
     """Fold the crossings owned by active block i into (best, who, kind).
 
     Block i's own stop, and the joins of its stuck neighbours, whose end-of-step
     forces are read from column ``pos`` (every active block's end position).
-    Returns (best, who, kind, status); a non-finite or runaway velocity stops
-    the scan with its status and the block in ``who``.
+    With ``listing`` every crossing is also appended to ``IW[CAND]`` (a join
+    once per slipping neighbour) for the local regions; a stop at a dip of v
+    (a grazing crossing) as not located.  Returns (best, who, kind, status); a
+    non-finite or runaway velocity stops the scan with its status and the
+    block in ``who``.
     """
     v1 = W[i, VN]
     if not (v1 < vmax):
@@ -128,6 +151,8 @@ def block_crossings(
         th = stick_theta(method, h, q, i, W)
         if th < best:
             best, who, kind = th, i, STICK
+        if listing and th <= 1.0:
+            _list(i, th if W[i, V] > 0.0 and v1 <= 0.0 else 2.0, IW, loc)
     for p in range(indptr[i], indptr[i + 1]):
         j = indices[p]
         if IW[FLAG, j] == ACTIVE:
@@ -141,11 +166,13 @@ def block_crossings(
         )
         if th < best:
             best, who, kind = th, j, JOIN
+        if listing:
+            _list(j, th, IW, loc)
     return best, who, kind, STATUS_OK
 
 
 @kernel
-def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax):
+def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax, loc):
     """Earliest stick or join inside the step just taken (D,V,A -> DN,VN,AN).
 
     Returns (theta, block, kind, status): theta in [0, 1] is the fraction of
@@ -168,12 +195,14 @@ def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax)
             best,
             who,
             kind,
+            False,
             W,
             IW,
             indptr,
             indices,
             kval,
             diag,
+            loc,
         )
         if status != STATUS_OK:
             return best, who, kind, status

@@ -13,6 +13,7 @@ first-same-as-last evaluation is the next step's A), see benchmarks/NOTES.md.
 
 import numpy as np
 
+from faultnet._kernels.context import BOUNDARY_CACHE, LOC_CACHE
 from faultnet._kernels.crossing import STATUS_OK, block_crossings
 from faultnet._kernels.integrate import ACT, AN, APOS, BND, DN, P2, VN, A, D, P, V, accel, force
 from faultnet._kernels.jit import inline_kernel, kernel
@@ -45,13 +46,8 @@ from faultnet._kernels.tableau import (
 )
 
 __all__ = [
-    "BOUNDARY_CACHE",
     "KA",
     "KV",
-    "LOC_CACHE",
-    "LOC_SIZE",
-    "LOC_THETA",
-    "THETA_CACHE",
     "N_WORK_DOPRI",
     "boundary_at",
     "boundary_coeffs",
@@ -60,18 +56,6 @@ __all__ = [
     "dense_coeffs",
     "dopri_step",
 ]
-
-
-#: ``loc[:LOC_CACHE]`` is the region context; then the dense coefficients of boundary blocks
-LOC_CACHE = 6
-#: boundary blocks whose coefficients are kept (more are evaluated from their stages)
-BOUNDARY_CACHE = 4096
-#: ``loc[LOC_THETA + k]``: where the outer step put local candidate k's crossing
-LOC_THETA = LOC_CACHE + 5 * BOUNDARY_CACHE
-#: candidates whose crossing is kept (the others have none)
-THETA_CACHE = 4096
-#: length of ``loc``
-LOC_SIZE = LOC_THETA + THETA_CACHE
 
 
 @inline_kernel
@@ -148,7 +132,9 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     ``scan`` the last pass (the first-same-as-last acceleration) also locates
     the earliest stop or join inside the step, as
     :func:`faultnet._kernels.crossing.earliest_crossing` would, and returns
-    (theta, block, kind, status); otherwise (2.0, -1, 0, STATUS_OK).
+    (theta, block, kind, status); otherwise (2.0, -1, 0, STATUS_OK).  With
+    ``scan == 2`` it also lists every crossing for the local regions
+    (``IW[CAND]``, counted from ``loc[LOC_NCAND]``, which the caller zeroes).
 
     Inside a local region (``loc[1] > loc[0]``) the boundary blocks' positions
     are written at each stage time from the outer step's dense output; the
@@ -242,6 +228,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     kind = np.int64(0)
     if bnd:
         boundary_positions(cp2, th0 + 1.0 * hr, W, IW, loc)
+    listing = scan == 2
     for q in range(q0, nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]
@@ -249,8 +236,9 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
         if scan:
             # P2 holds every active block's end position (P is being updated)
             best, who, kind, status = block_crossings(
-                1, h, q0, q, i, P2, vmax, best, who, kind, W, IW, indptr, indices, kval, diag
-            )
+                1, h, q0, q, i, P2, vmax, best, who, kind, listing, W, IW, indptr, indices, kval,
+                diag, loc,
+            )  # fmt: skip
             if status != STATUS_OK:
                 return best, who, kind, status
     return best, who, kind, STATUS_OK

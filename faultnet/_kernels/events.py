@@ -29,6 +29,7 @@ import math
 
 import numpy as np
 
+from faultnet._kernels.context import LOC_NCAND
 from faultnet._kernels.crossing import (
     STATUS_EVENT_TOO_LONG,
     STATUS_NONFINITE,
@@ -318,8 +319,12 @@ def _integrate(
     while nact > 0:
         local = method == 1 and nact >= n_local and 4 * nact < n_blocks
         h = h_local if local else dt
+        scan = zero + 1
+        if local:
+            scan += 1  # list the crossings for the local regions
+            loc[LOC_NCAND] = 0.0
         th, who, kind, status = step_scan(
-            method, h, zero, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
+            method, h, zero, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, scan, loc
         )
         if status != STATUS_OK:
             return status, t, nsteps, ntouch

@@ -33,18 +33,18 @@ the slipping blocks outside keep their full-step results.
 
 Row ``REGION`` holds a region's id for its blocks and stuck neighbours and
 minus the id for its boundary; ids come from a counter (``cnt[11]``) and grow,
-so no reset is needed between steps.  ``loc`` (float64[LOC_SIZE]) is the context
-shared with the step kernels: boundary list range ``IW[BND, loc[0]:loc[1]]``,
-start of the current region step as a fraction of the outer step ``loc[2]``,
-outer step length ``loc[3]``, number of saved blocks ``loc[4]``, step id
-``loc[5]``, then the boundary blocks' dense-output coefficients
-(:func:`faultnet._kernels.dopri.cache_boundary`).
+so no reset is needed between steps.  ``loc`` is the context shared with the
+step kernels (its layout: :mod:`faultnet._kernels.context`): the boundary, the
+region step's times, the saves, the boundary blocks' dense-output coefficients
+(:func:`faultnet._kernels.dopri.cache_boundary`) and the crossings the outer
+step's scan listed.
 """
 
 import numpy as np
 
+from faultnet._kernels.context import LOC_NCAND, LOC_THETA, THETA_CACHE
 from faultnet._kernels.crossing import JOIN, STATUS_OK, STICK, join_theta, stick_theta
-from faultnet._kernels.dopri import LOC_THETA, THETA_CACHE, boundary_at, cache_boundary
+from faultnet._kernels.dopri import boundary_at, cache_boundary
 from faultnet._kernels.integrate import (
     ACT,
     ACTIVE,
@@ -130,13 +130,41 @@ def _candidate(n, b, th, IW, loc):
 
 
 @kernel
+def _listed(mark, IW, loc):
+    """The crossings the outer step's scan listed, each block once; -1 if it listed too many.
+
+    The scan (:func:`faultnet._kernels.crossing.block_crossings`) appends a
+    join once per slipping neighbour of the joining block; the list is
+    compacted in place, keeping the first, so it reads as :func:`_collect`'s.
+    """
+    n = int(loc[LOC_NCAND])
+    if n < 0:
+        return n
+    m = 0
+    for k in range(n):
+        c = IW[CAND, k]
+        if IW[FLAG, c] != ACTIVE:
+            if IW[MARK, c] == mark:
+                continue
+            IW[MARK, c] = mark
+        th = loc[LOC_THETA + k] if k < THETA_CACHE else 2.0
+        IW[CAND, m] = c
+        if m < THETA_CACHE:
+            loc[LOC_THETA + m] = th
+        m += 1
+    return m
+
+
+@kernel
 def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc):
     """Every block with a crossing inside the full step just taken, into ``IW[CAND]``.
 
     Where the outer step's dense output puts the crossing is kept in ``loc``
     for a clean crossing (a stop where v changes sign, a join where the force
     crosses 1), so that a region can reach its first crossing from the outer
-    step; a stop at a dip of v (a grazing crossing) is not located.
+    step; a stop at a dip of v (a grazing crossing) is not located.  The outer
+    step's scan lists the same (:func:`_listed`); this is for when it listed
+    more than ``IW[CAND]`` holds.
     """
     n = 0
     zero = n - n  # int64, not a literal: the scan's signature of join_theta
@@ -334,7 +362,7 @@ def _sub_run(
             qb = q0 - q0  # ... or on the outer step, every block at its ends
         else:
             th, who, kind, status = step_scan(
-                1, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
+                1, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, n - n + 1, loc
             )
             n += 1
             cnt[4] += nact - q0
@@ -550,7 +578,10 @@ def local_step(
     loc[5] = _new_id(cnt)  # saves are kept once per step, whatever the attempt
     loc[3] = hh
     loc[4] = 0.0
-    ncand = _collect(hh, nact, _new_id(cnt), W, IW, indptr, indices, kval, diag, loc)
+    mark = _new_id(cnt)
+    ncand = _listed(mark, IW, loc)
+    if ncand < 0:
+        ncand = _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc)
     ncand0 = ncand
     steps = 0
     for attempt in range(_MAX_ATTEMPTS):

@@ -136,10 +136,12 @@ def step(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
     raise NotImplementedError("a kernel: called from compiled code only")
 
 
-def step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+def step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, scan, loc):
     """A step and the earliest crossing inside it: (theta, block, kind, status).
 
-    Chosen while typing, like :func:`step`.
+    Chosen while typing, like :func:`step`.  ``scan``: 1, or 2 to list every
+    crossing for the local regions as well (DP5, see
+    :func:`faultnet._kernels.dopri.dopri_step`).
     """
     raise NotImplementedError("a kernel: called from compiled code only")
 
@@ -167,19 +169,19 @@ def _step(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc
 
 
 @overload(step_scan, prefer_literal=True, inline="always", jit_options=INNER)
-def _step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+def _step_scan(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, scan, loc):
     if _literal_method(method) == 0:
 
-        def rk4(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+        def rk4(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, scan, loc):
             rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr)
             # the literal method prunes the dense-output branch of the scan
-            return earliest_crossing(0, h, nact, W, IW, indptr, indices, kval, diag, vmax)
+            return earliest_crossing(0, h, nact, W, IW, indptr, indices, kval, diag, vmax, loc)
 
         return rk4
 
-    def dp5(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc):
+    def dp5(method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, scan, loc):
         return dopri_step(
-            h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, np.int64(1), vmax, loc
+            h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax, loc
         )
 
     return dp5
@@ -287,6 +289,7 @@ def to_crossing(
     ``LANDED`` for a landed join.
     """
     n = 0
+    one = n + 1  # int64, not a literal: one typing of the scan
     if th <= 0.0:
         restore_positions(q0, nact, W, IW)
         return 0.0, who, kind, n, STATUS_OK
@@ -301,7 +304,7 @@ def to_crossing(
     for _ in range(64):
         h = th * h
         th2, who2, kind2, status = step_scan(
-            method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, loc
+            method, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, one, loc
         )
         n += 1
         cnt[4] += m
