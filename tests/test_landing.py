@@ -104,6 +104,14 @@ def _arrays(model):
     )
 
 
+def _ring12(alpha):
+    """A 12-block ring (k = 16, sigma = 0.01): its kernel arrays, dt and empty work arrays."""
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=alpha)
+    W = np.zeros((model.n, N_WORK_DOPRI))
+    IW = np.zeros((N_IWORK, model.n), dtype=np.int64)
+    return model.n, _arrays(model), default_dt(model), W, IW, np.zeros(LOC_SIZE)
+
+
 @pytest.mark.parametrize("gap", [0.001, 0.003, 0.006])
 @pytest.mark.parametrize("alpha", [1.0, 2.0])
 def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
@@ -114,13 +122,7 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
     a fine integration over the whole step (the landing adds no error of its
     own); the joining block's force there is 1 to round-off.
     """
-    model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=alpha)
-    arrays = _arrays(model)
-    n = model.n
-    h = default_dt(model)
-    W = np.zeros((n, N_WORK_DOPRI))
-    IW = np.zeros((N_IWORK, n), dtype=np.int64)
-    loc = np.zeros(6)
+    n, arrays, h, W, IW, loc = _ring12(alpha)
     loc[3] = 1.0
     w = 0.0
     keys = np.full(n, 1.0)  # keys: plate position at which a block fails; force = 1 + w - key
@@ -202,13 +204,7 @@ def test_landed_join_inside_a_local_region(alpha, v_boundary):
     the region step's own end does; treating the boundary as still (a mutant)
     is orders of magnitude off.
     """
-    model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=alpha)
-    arrays = _arrays(model)
-    n = model.n
-    hh = default_dt(model)
-    W = np.zeros((n, N_WORK_DOPRI))
-    IW = np.zeros((N_IWORK, n), dtype=np.int64)
-    loc = np.zeros(LOC_SIZE)
+    n, arrays, hh, W, IW, loc = _ring12(alpha)
     w = 0.0
     keys = np.full(n, 0.5)  # every touched block well below the threshold ...
     keys[3] = keys[4] = keys[5] = w  # ... but the slipping ones
@@ -312,13 +308,8 @@ def test_listed_crossings_match_the_outer_scan(v_boundary):
     Blocks 3, 4, 5 and 7 of a ring slip: 6 joins, next to two slipping blocks
     (listed twice by the scan), 2 joins later or not at all.
     """
-    model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=1.0)
-    arrays = _arrays(model)
-    h = default_dt(model)
-    W = np.zeros((model.n, N_WORK_DOPRI))
-    IW = np.zeros((N_IWORK, model.n), dtype=np.int64)
-    loc = np.zeros(LOC_SIZE)
-    keys = np.full(model.n, 0.5)
+    n, arrays, h, W, IW, loc = _ring12(1.0)
+    keys = np.full(n, 0.5)
     keys[[3, 4, 5, 7]] = 0.0
     keys[6] = 16.0 * (0.4 + 0.3) * 0.45 * h  # joins about half-way through the step
     keys[2] = 16.0 * v_boundary * 0.6 * h  # joins later, or not at all
