@@ -41,6 +41,7 @@ __all__ = [
     "STATUS_RUNAWAY",
     "STATUS_SLIPS_FULL",
     "block_crossings",
+    "candidate",
     "earliest_crossing",
     "join_theta",
     "stick_theta",
@@ -113,6 +114,17 @@ def join_theta(method, h, q0, j, f0, f1, W, IW, indptr, indices, kval):
 
 
 @inline_kernel
+def candidate(n, b, th, IW, loc):
+    """Crossing candidate n of a local step is block b, at fraction ``th`` of the outer step.
+
+    ``th`` 2.0: not located.  Thetas beyond ``THETA_CACHE`` candidates are not kept.
+    """
+    IW[CAND, n] = b
+    if n < THETA_CACHE:
+        loc[LOC_THETA + n] = th
+
+
+@inline_kernel
 def _list(b, th, IW, loc):
     """Append block b's crossing (at fraction th, 2.0: not located) to ``IW[CAND]``.
 
@@ -123,9 +135,7 @@ def _list(b, th, IW, loc):
     if n >= IW.shape[1]:
         loc[LOC_NCAND] = -1.0
     elif n >= 0:
-        IW[CAND, n] = b
-        if n < THETA_CACHE:
-            loc[LOC_THETA + n] = th
+        candidate(n, b, th, IW, loc)
         loc[LOC_NCAND] = n + 1.0
 
 
@@ -140,7 +150,7 @@ def block_crossings(
     forces are read from column ``pos`` (every active block's end position).
     With ``listing`` every crossing is also appended to ``IW[CAND]`` (a join
     once per slipping neighbour) for the local regions; a stop at a dip of v
-    (a grazing crossing) as not located.  Returns (best, who, kind, status); a
+    (a grazing crossing) is listed as not located.  Returns (best, who, kind, status); a
     non-finite or runaway velocity stops the scan with its status and the
     block in ``who``.
     """

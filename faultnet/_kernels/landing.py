@@ -124,6 +124,14 @@ def septic_root(th, c0, c1, c2, c3, c4, c5, c6, c7):
 
 
 @inline_kernel
+def _quartic_rates(th, hh, c1, c2, c3, c4):
+    """First and second time derivatives of a quartic in th, at fraction th of a step hh long."""
+    r = 1.0 / hh
+    v = r * (c1 + th * (2.0 * c2 + th * (3.0 * c3 + th * 4.0 * c4)))
+    return v, r * r * (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4))
+
+
+@inline_kernel
 def _boundary_motion(b, th0, th1, W, IW, loc):
     """Velocity and acceleration of a local region's boundary block b at outer fractions th0, th1.
 
@@ -132,12 +140,8 @@ def _boundary_motion(b, th0, th1, W, IW, loc):
     derivatives, consistent with the positions the region's steps used.
     """
     c0, c1, c2, c3, c4 = boundary_coeffs(b, W, IW, loc)
-    r = 1.0 / loc[3]
-    r2 = r * r
-    v0 = r * (c1 + th0 * (2.0 * c2 + th0 * (3.0 * c3 + th0 * 4.0 * c4)))
-    v1 = r * (c1 + th1 * (2.0 * c2 + th1 * (3.0 * c3 + th1 * 4.0 * c4)))
-    a0 = r2 * (2.0 * c2 + th0 * (6.0 * c3 + th0 * 12.0 * c4))
-    a1 = r2 * (2.0 * c2 + th1 * (6.0 * c3 + th1 * 12.0 * c4))
+    v0, a0 = _quartic_rates(th0, loc[3], c1, c2, c3, c4)
+    v1, a1 = _quartic_rates(th1, loc[3], c1, c2, c3, c4)
     return v0, a0, v1, a1
 
 

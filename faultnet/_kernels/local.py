@@ -43,7 +43,14 @@ step's scan listed.
 import numpy as np
 
 from faultnet._kernels.context import LOC_NCAND, LOC_THETA, THETA_CACHE
-from faultnet._kernels.crossing import JOIN, STATUS_OK, STICK, join_theta, stick_theta
+from faultnet._kernels.crossing import (
+    JOIN,
+    STATUS_OK,
+    STICK,
+    candidate,
+    join_theta,
+    stick_theta,
+)
 from faultnet._kernels.dopri import boundary_at, cache_boundary
 from faultnet._kernels.integrate import (
     ACT,
@@ -121,14 +128,6 @@ def _restore(nact, W, IW, loc):
         IW[APOS, IW[ACT, q]] = q
 
 
-@inline_kernel
-def _candidate(n, b, th, IW, loc):
-    """Candidate n is block b, whose crossing the outer step put at ``th`` (2.0: not located)."""
-    IW[CAND, n] = b
-    if n < THETA_CACHE:
-        loc[LOC_THETA + n] = th
-
-
 @kernel
 def _listed(mark, IW, loc):
     """The crossings the outer step's scan listed, each block once; -1 if it listed too many.
@@ -147,10 +146,7 @@ def _listed(mark, IW, loc):
             if IW[MARK, c] == mark:
                 continue
             IW[MARK, c] = mark
-        th = loc[LOC_THETA + k] if k < THETA_CACHE else 2.0
-        IW[CAND, m] = c
-        if m < THETA_CACHE:
-            loc[LOC_THETA + m] = th
+        candidate(m, c, loc[LOC_THETA + k] if k < THETA_CACHE else 2.0, IW, loc)
         m += 1
     return m
 
@@ -174,7 +170,7 @@ def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc):
             # the literal method as in the DP5 step's scan: one compiled signature
             th = stick_theta(1, hh, q, i, W)
             if th <= 1.0:
-                _candidate(n, i, th if W[i, V] > 0.0 and W[i, VN] <= 0.0 else 2.0, IW, loc)
+                candidate(n, i, th if W[i, V] > 0.0 and W[i, VN] <= 0.0 else 2.0, IW, loc)
                 n += 1
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
@@ -186,7 +182,7 @@ def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc):
                     th = 0.0
                     if f0 < 1.0:
                         th = join_theta(1, hh, zero, j, f0, f1, W, IW, indptr, indices, kval)
-                    _candidate(n, j, th, IW, loc)
+                    candidate(n, j, th, IW, loc)
                     n += 1
     return n
 
