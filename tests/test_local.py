@@ -98,14 +98,21 @@ def test_large_correlated_events(monkeypatch, square40):
 
 
 def test_same_statistics(monkeypatch, square40):
-    """20,000 events each way: the b-values agree within their errors."""
+    """20,000 events each way: the b-values agree within their scatter.
+
+    The MLE error of one run understates how b scatters between runs from
+    different starts (correlated events): over 8 starts 5,000 events apart
+    (session 9), the difference of the two treatments' b had a standard
+    deviation of 0.040 and a mean of +0.012 +- 0.014, against a quoted combined
+    error of 0.019.  So the bound is three times twice the quoted error.
+    """
     model, state = square40
     b = []
     for local in (True, False):
         res = _run(monkeypatch, model, state, 20000, local, record_slips=False)
         assert (res.metadata["local_steps"] > 0) == local
         b.append(faultnet.stats.fit_b_mle(res.events.M, m_min=-6.0))
-    assert abs(b[0].b - b[1].b) < 3.0 * np.hypot(b[0].b_err, b[1].b_err), b
+    assert abs(b[0].b - b[1].b) < 3.0 * 2.0 * np.hypot(b[0].b_err, b[1].b_err), b
 
 
 def test_rk4_never_uses_local_regions(monkeypatch):
