@@ -6,13 +6,20 @@ They change single large events by about the integrator's own error
 (``tests/test_local.py``); this checks what matters for users: b on the
 periodic 150^2 lattice (W4, the paper's Fig. 8b) with local regions, with the
 exact whole-event treatment (``simulate.LOCAL_REGIONS_FROM = inf``), and with
-the whole-event treatment at half the step.  All runs start from one state
-after a transient to plate time 2 and decorrelate within a few thousand
-events (chaos), so they are in effect independent samples.  Errors are batch
-means, as in ``b_half_dt.py``.
+the whole-event treatment at half the step.  For each seed, every run starts
+from one state after a transient to plate time 2 from that seed's random
+start; the runs decorrelate within a few thousand events (chaos), so they are
+in effect independent samples.  Errors of one start are batch means, as in
+``b_half_dt.py``.
 
-    python benchmarks/b_local.py                  # 2x10^5 events per run
-    python benchmarks/b_local.py --events 50000   # quicker, looser
+One start is not enough for the LSQ tail fit: its b scatters between starts
+by 0.026-0.030 (session 8: 5 region runs and 4 whole-event runs of 10^6
+events), more than the batch-means error of one start (0.015-0.025).  With
+several seeds the pooled comparison uses the scatter of the per-start values.
+
+    python benchmarks/b_local.py                       # 2x10^5 events per run, seed 1
+    python benchmarks/b_local.py --events 50000        # quicker, looser
+    python benchmarks/b_local.py --seed 2 3 4 5 --only local whole   # pooled, two runs each
 """
 
 from __future__ import annotations
@@ -29,6 +36,17 @@ from faultnet.simulate import default_dt
 
 SIM = importlib.import_module("faultnet.simulate")
 
+#: run name -> (label, local regions on, fraction of the default dt)
+RUNS = {
+    "local": ("local regions", True, 1.0),
+    "whole": ("whole event", False, 1.0),
+    "half": ("whole, dt/2", False, 0.5),
+}
+FITS = {
+    "LSQ [-7, 4]": lambda m: faultnet.fit_b_lsq(m, -7.0, 4.0),
+    "MLE M >= -7": lambda m: faultnet.fit_b_mle(m, -7.0),
+}
+
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
@@ -36,56 +54,83 @@ def main(argv=None):
     ap.add_argument("--batches", type=int, default=10)
     ap.add_argument("--size", type=int, default=150, help="lattice side (default 150: W4)")
     ap.add_argument("--transient-t", type=float, default=2.0)
+    ap.add_argument("--seed", type=int, nargs="+", default=[1], help="one start per seed")
+    ap.add_argument("--only", nargs="+", choices=list(RUNS), default=list(RUNS), help="runs to do")
     args = ap.parse_args(argv)
+    if len(args.only) < 2:
+        ap.error("--only needs two runs to compare")
+    runs = [r for r in RUNS if r in args.only]  # in the table's order
+    starts = [one_start(seed, runs, args) for seed in args.seed]
+    if len(starts) > 1:
+        pooled(runs, args.seed, starts)
 
+
+def one_start(seed, runs, args):
+    """The runs from one seed's start; prints their table, returns {run: {fit: b}}."""
     graph = faultnet.graphs.square_lattice(args.size, args.size, periodic=True)
     model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
     tic = time.perf_counter()
-    res = faultnet.simulate(model, 1000, rng=1, progress=False, record_slips=False)
+    res = faultnet.simulate(model, 1000, rng=seed, progress=False, record_slips=False)
     while res.events.t.iloc[-1] < args.transient_t:
         res = faultnet.simulate(model, model.n, x0=res.state, progress=False, record_slips=False)
     state = res.state
-    print(f"transient to plate time {args.transient_t}: {time.perf_counter() - tic:.0f} s")
+    wall = time.perf_counter() - tic
+    print(f"seed {seed}: transient to plate time {args.transient_t}: {wall:.0f} s")
 
-    fits = {
-        "LSQ [-7, 4]": lambda m: faultnet.fit_b_lsq(m, -7.0, 4.0),
-        "MLE M >= -7": lambda m: faultnet.fit_b_mle(m, -7.0),
-    }
     dt0 = default_dt(model)
     local_from = SIM.LOCAL_REGIONS_FROM
-    runs = (
-        ("local regions", local_from, dt0),
-        ("whole event", float("inf"), dt0),
-        ("whole, dt/2", float("inf"), dt0 / 2),
-    )
-    rows = []
+    rows = {}
     try:
-        for label, threshold, dt in runs:
-            SIM.LOCAL_REGIONS_FROM = threshold
+        for name in runs:
+            label, local, frac = RUNS[name]
+            SIM.LOCAL_REGIONS_FROM = local_from if local else float("inf")
             tic = time.perf_counter()
-            res = faultnet.simulate(model, args.events, x0=state, dt=dt, record_slips=False)
+            res = faultnet.simulate(model, args.events, x0=state, dt=dt0 * frac, record_slips=False)
             wall = time.perf_counter() - tic
             M = res.events.M.to_numpy()
             work = res.metadata["block_steps"] / args.events
-            fitted = {k: batch_b(M, f, args.batches) for k, f in fits.items()}
-            rows.append((label, dt, wall, work, fitted))
+            fitted = {k: batch_b(M, f, args.batches) for k, f in FITS.items()}
+            rows[name] = (dt0 * frac, wall, work, fitted)
     finally:
         SIM.LOCAL_REGIONS_FROM = local_from
 
-    print(f"\nperiodic {args.size}^2, alpha 1, {args.events} events per run, batch-means errors")
+    print(f"\nperiodic {args.size}^2, alpha 1, seed {seed}, {args.events} events per run, "
+          "batch-means errors")  # fmt: skip
     print(
         f"{'run':14} {'dt':>8} {'wall s':>7} {'bsteps/ev':>9}  "
-        + "  ".join(f"{k:>18}" for k in fits)
+        + "  ".join(f"{k:>18}" for k in FITS)
     )
-    for label, dt, wall, work, res in rows:
+    for name, (dt, wall, work, res) in rows.items():
         cells = "  ".join(f"{b:>9.4f} ± {e:.4f}" for b, e in res.values())
-        print(f"{label:14} {dt:8.5f} {wall:7.0f} {work:9.0f}  {cells}")
-    for k in fits:
-        (b0, e0) = rows[0][4][k]
-        for label, _, _, _, res in rows[1:]:
-            b1, e1 = res[k]
+        print(f"{RUNS[name][0]:14} {dt:8.5f} {wall:7.0f} {work:9.0f}  {cells}")
+    first = runs[0]
+    for k in FITS:
+        b0, e0 = rows[first][3][k]
+        for name in runs[1:]:
+            b1, e1 = rows[name][3][k]
             z = (b0 - b1) / np.hypot(e0, e1)
-            print(f"{k}: local - {label}: {b0 - b1:+.4f} = {z:+.2f} combined standard errors")
+            print(
+                f"{k}: {RUNS[first][0]} - {RUNS[name][0]}: {b0 - b1:+.4f} = {z:+.2f} "
+                "combined standard errors"
+            )
+    return {name: {k: row[3][k][0] for k in FITS} for name, row in rows.items()}
+
+
+def pooled(runs, seeds, starts):
+    """Mean b of each run over the starts; differences with errors from their scatter."""
+    print(f"\npooled over seeds {seeds} (errors from the scatter between starts)")
+    first = runs[0]
+    for k in FITS:
+        b = {name: np.array([s[name][k] for s in starts]) for name in runs}
+        means = ", ".join(
+            f"{RUNS[n][0]} {v.mean():.4f} ± {v.std(ddof=1) / np.sqrt(v.size):.4f}"
+            for n, v in b.items()
+        )
+        print(f"{k}: {means}")
+        for name in runs[1:]:
+            d = b[first].mean() - b[name].mean()
+            se = np.hypot(b[first].std(ddof=1), b[name].std(ddof=1)) / np.sqrt(len(starts))
+            print(f"  {RUNS[first][0]} - {RUNS[name][0]}: {d:+.4f} = {d / se:+.2f} standard errors")
 
 
 if __name__ == "__main__":
