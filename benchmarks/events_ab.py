@@ -79,9 +79,14 @@ def save(wid, path, min_blocks, count, events, transient_t):
     )
 
 
-def time_events(path, repeat):
+def time_events(path, repeat, local_from=None):
     """Each saved event alone; returns the row printed (a dict)."""
+    import importlib
+
     import faultnet
+
+    if local_from is not None:  # a tuning knob of the simulate module
+        importlib.import_module("faultnet.simulate").LOCAL_REGIONS_FROM = local_from
 
     d = np.load(path)
     wid = str(d["wid"])
@@ -108,6 +113,7 @@ def time_events(path, repeat):
         "workload": wid,
         "code": os.path.dirname(os.path.dirname(faultnet.__file__)),
         "events": len(states),
+        "local_regions_from": importlib.import_module("faultnet.simulate").LOCAL_REGIONS_FROM,
         "loop_s": loop,
         "ns_per_block_step": 1e9 * loop / work["block_steps"],
         **work,
@@ -115,7 +121,8 @@ def time_events(path, repeat):
         "max_rel_dS": float(np.max(np.abs(np.array(slips) / d["S"] - 1.0))),
     }
     print(
-        f"{wid} {row['code']}: {row['events']} events {loop:.3f} s, "
+        f"{wid} {row['code']} (regions from {row['local_regions_from']:g}): "
+        f"{row['events']} events {loop:.3f} s, "
         f"{work['block_steps']:,} block-steps ({row['ns_per_block_step']:.1f} ns each), "
         + ", ".join(f"{k} {work[k]:,}" for k in COUNTERS)
         + f"; sizes as saved: {row['same_sizes']}, largest |S/S_saved - 1| {row['max_rel_dS']:.1e}"
@@ -137,6 +144,11 @@ def main(argv=None):
     tm.add_argument("path", help=".npz file written by save")
     tm.add_argument("--repeat", type=int, default=3, help="rounds; the fastest counts")
     tm.add_argument("--json", help="append the row as a JSON line to this file")
+    tm.add_argument(
+        "--local-from",
+        type=float,
+        help="simulate.LOCAL_REGIONS_FROM for this run (default: the module's, 32)",
+    )
     args = ap.parse_args(argv)
     if args.cmd == "save":
         if args.min_blocks < 1 or args.count < 1 or args.events < 1:
@@ -147,7 +159,7 @@ def main(argv=None):
         return
     if args.repeat < 1:
         ap.error("--repeat must be >= 1")
-    row = time_events(args.path, args.repeat)
+    row = time_events(args.path, args.repeat, args.local_from)
     if args.json:
         with open(args.json, "a") as fh:
             fh.write(json.dumps(row) + "\n")
