@@ -7,9 +7,9 @@ the same (kernel, signature) list: each process writes what it compiled to the o
 and first looks there before compiling (Numba's ``cache=True``), so the main process loads
 what the helper finished instead of compiling it.  The main process keeps the *spine*: the
 few big kernels on its own path (the entry, ``_integrate``, ``dopri_step``), which it reaches
-through the entry's typing before the helper could finish them.  The helper takes the callees
-the main process needs first, then the rest from the back of the list while the main process
-works from the front (:func:`helper_order`).  Nothing else is shared: if the helper cannot
+through the entry's typing before the helper could finish them.  The helper goes through the
+rest of the list in the main process's order (:func:`helper_order`), keeping ahead of it while
+the main process compiles a spine kernel.  Nothing else is shared: if the helper cannot
 start, dies or falls behind, the main process compiles everything itself, as without it; it is
 stopped as soon as the main process has its kernel.
 
@@ -29,13 +29,16 @@ import sys
 
 from faultnet._system import usable_cores
 
-__all__ = ["ENV", "SPINE_SHARE", "helper_order", "record", "start", "stop"]
+__all__ = ["ENV", "SPINE_SHARE", "SPINE_START", "helper_order", "record", "start", "stop"]
 
 #: set to "0" to never start the helper
 ENV = "FAULTNET_COMPILE_HELPER"
 _PKG = "faultnet._kernels."
-#: a kernel whose own compile takes this share of the whole is left to the main process
+#: a kernel whose own compile takes this share of the whole is left to the main process ...
 SPINE_SHARE = 0.08
+#: ... if the main process starts it within this share of the compile's span (``dopri_step``,
+#: ``_integrate``; ``land`` starts half-way: the helper has it by then)
+SPINE_START = 0.4
 _proc = None
 #: whether this process ever started a helper (for tests and benchmarks)
 _launched = False
@@ -110,12 +113,13 @@ def stop():
 def helper_order(order):
     """The helper's share of ``order`` (callees before callers), in the helper's order.
 
-    The callees of the first spine kernel come first (the main process reaches them within
-    seconds), then the rest from the back: the main process works forward from the front, so
-    the two meet in the middle.  Spine kernels are the main process's.
+    Front to back, without the spine kernels (the main process's): while the main process
+    compiles ``dopri_step`` (3-4 s) the helper gets ahead of it, and the main process then
+    loads the region code and the landing instead of compiling them (benchmarks/NOTES.md,
+    session 9: 21-22 s against 29-32 s with the earlier order, which took the rest of the
+    list from the back and reached the landing and the region code too late).
     """
-    first = next((k for k, row in enumerate(order) if row[3]), len(order))
-    return [row for row in order[:first] + order[first:][::-1] if not row[3]]
+    return [row for row in order if not row[3]]
 
 
 #: the helper's start: the kernel modules without ``faultnet/__init__`` (pandas and the rest
@@ -145,10 +149,12 @@ import json, time, faultnet
 from numba.core import event
 from faultnet import _compile_helper as h
 done, stack, table = [], [], h._types()
+t00 = time.perf_counter()
 class L(event.Listener):
     def on_start(self, e):
         stack.append([time.perf_counter(), 0.0])
     def on_end(self, e):
+        start = stack[-1][0] - t00
         t0, inner = stack.pop()
         total = time.perf_counter() - t0
         if stack:
@@ -157,7 +163,7 @@ class L(event.Listener):
         m = __import__(mod, fromlist=["_"])
         if mod.startswith(h._PKG) and getattr(m, f.__name__, None) is d:
             sig = [h._token(t, table) for t in e.data["args"]]
-            done.append((mod[len(h._PKG):], f.__name__, sig, total - inner))
+            done.append((mod[len(h._PKG):], f.__name__, sig, total - inner, start))
 event.register("numba:compile", L())
 m = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
 faultnet.simulate(m, 1, rng=1, progress=False)
@@ -170,9 +176,10 @@ def record(path=None):
 
     The kernels are listed in the order their compilation *ends* (callees before callers), so
     the helper, going front to back, always finds a kernel's callees compiled.  A kernel whose
-    own compile (callees excluded) takes at least :data:`SPINE_SHARE` of the whole is marked
-    ``spine``: the main process is bound to compile it itself (it reaches it early, through the
-    entry kernel's typing), so the helper leaves it alone.
+    own compile (callees excluded) takes at least :data:`SPINE_SHARE` of the whole, and whose
+    compile starts within :data:`SPINE_START` of the span, is marked ``spine``: the main
+    process is bound to compile it itself (it reaches it early, through the entry kernel's
+    typing), so the helper leaves it alone.
     """
     import json
     import tempfile
@@ -183,9 +190,11 @@ def record(path=None):
     done = json.loads(out.decode().strip().splitlines()[-1])
     entry = next(row for row in done if row[1].startswith("run_events"))
     total = sum(row[3] for row in done)
+    t0 = min(row[4] for row in done)
+    span = max(row[4] for row in done) - t0  # to the last kernel's start
     order = [
-        (mod, name, tuple(sig), excl >= SPINE_SHARE * total)
-        for mod, name, sig, excl in done
+        (mod, name, tuple(sig), excl >= SPINE_SHARE * total and start - t0 <= SPINE_START * span)
+        for mod, name, sig, excl, start in done
         if name != entry[1]
     ]
     path = path or os.path.join(os.path.dirname(__file__), "_compile_order.py")

@@ -59,7 +59,7 @@ def test_helper_runs_on_a_cold_cache_and_changes_nothing():
     np.testing.assert_array_equal(s_helped, ref)
 
 
-def test_helper_takes_the_early_callees_then_the_rest_from_the_back():
+def test_helper_takes_the_list_in_order_without_the_spine():
     order = [
         ("m", "a", (), False),
         ("m", "b", (), False),
@@ -70,5 +70,5 @@ def test_helper_takes_the_early_callees_then_the_rest_from_the_back():
         ("m", "e", (), False),
     ]
     got = [row[1] for row in _compile_helper.helper_order(order)]
-    assert got == ["a", "b", "e", "d", "c"]
+    assert got == ["a", "b", "c", "d", "e"]
     assert _compile_helper.helper_order([]) == []
