@@ -38,6 +38,13 @@ def batch_b(M, fit, batches):
     return fit(M).b, vals.std(ddof=1) / np.sqrt(batches)
 
 
+def pooled_difference(a, b):
+    """Mean of ``a`` minus mean of ``b`` (b per independent start), and its standard error
+    from the scatter of each between starts."""
+    a, b = np.asarray(a), np.asarray(b)
+    return a.mean() - b.mean(), np.hypot(a.std(ddof=1), b.std(ddof=1)) / np.sqrt(a.size)
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("--events", type=int, default=1_000_000)
@@ -48,12 +55,11 @@ def main(argv=None):
     if len(pooled) > 1:
         print(f"\npooled over seeds {args.seed} (errors from the scatter between starts)")
         for k in pooled[0]:
-            d = np.array([p[k][0] - p[k][1] for p in pooled])
             b = np.array([p[k] for p in pooled])
-            se = np.hypot(b[:, 0].std(ddof=1), b[:, 1].std(ddof=1)) / np.sqrt(len(d))
+            d, se = pooled_difference(b[:, 0], b[:, 1])
             print(
                 f"{k}: default dt {b[:, 0].mean():.4f}, dt / 2 {b[:, 1].mean():.4f}, "
-                f"difference {d.mean():+.4f} = {d.mean() / se:+.2f} standard errors"
+                f"difference {d:+.4f} = {d / se:+.2f} standard errors"
             )
 
 

@@ -29,7 +29,7 @@ import importlib
 import time
 
 import numpy as np
-from b_half_dt import batch_b  # the same batch-means errors
+from b_half_dt import batch_b, pooled_difference  # the same errors
 
 import faultnet
 from faultnet.simulate import default_dt
@@ -128,8 +128,7 @@ def pooled(runs, seeds, starts):
         )
         print(f"{k}: {means}")
         for name in runs[1:]:
-            d = b[first].mean() - b[name].mean()
-            se = np.hypot(b[first].std(ddof=1), b[name].std(ddof=1)) / np.sqrt(len(starts))
+            d, se = pooled_difference(b[first], b[name])
             print(f"  {RUNS[first][0]} - {RUNS[name][0]}: {d:+.4f} = {d / se:+.2f} standard errors")
 
 

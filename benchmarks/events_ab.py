@@ -85,8 +85,9 @@ def time_events(path, repeat, local_from=None):
 
     import faultnet
 
+    sim = importlib.import_module("faultnet.simulate")  # the module, not the function
     if local_from is not None:  # a tuning knob of the simulate module
-        importlib.import_module("faultnet.simulate").LOCAL_REGIONS_FROM = local_from
+        sim.LOCAL_REGIONS_FROM = local_from
 
     d = np.load(path)
     wid = str(d["wid"])
@@ -113,7 +114,7 @@ def time_events(path, repeat, local_from=None):
         "workload": wid,
         "code": os.path.dirname(os.path.dirname(faultnet.__file__)),
         "events": len(states),
-        "local_regions_from": importlib.import_module("faultnet.simulate").LOCAL_REGIONS_FROM,
+        "local_regions_from": sim.LOCAL_REGIONS_FROM,
         "loop_s": loop,
         "ns_per_block_step": 1e9 * loop / work["block_steps"],
         **work,

@@ -14,6 +14,7 @@ import networkx as nx
 import numba as nb
 import numpy as np
 import pytest
+import scipy.sparse
 
 from faultnet._kernels.context import LOC_CACHE, LOC_SIZE
 from faultnet._kernels.dopri import dopri_step
@@ -70,8 +71,8 @@ def _reference(h, blocks, x, v0, a0, F0s, K, diag, oms, cfr, boundary, th0, hout
     x0 = x[blocks]
     kv, ka = [v0], [a0]
     for s in range(1, 6):
-        xs = x0 + h * sum(float(c) * k for c, k in zip(_A[s], kv, strict=False))
-        vs = v0 + h * sum(float(c) * k for c, k in zip(_A[s], ka, strict=False))
+        xs = x0 + h * sum(float(c) * k for c, k in zip(_A[s], kv, strict=True))
+        vs = v0 + h * sum(float(c) * k for c, k in zip(_A[s], ka, strict=True))
         kv.append(vs)
         ka.append(acc(xs, vs, float(_C[s])))
     x1 = x0 + h * sum(float(c) * k for c, k in zip(_B, kv, strict=True))
@@ -89,7 +90,9 @@ def test_step_matches_a_dense_reference(region, seed):
     for u, w in g.edges:
         K[u, w] = K[w, u] = rng.uniform(4.0, 20.0)  # heterogeneous springs
     diag = K.sum(1) + 1.0
-    indptr, indices, kval = _csr(K)
+    csr = scipy.sparse.csr_array(K)
+    indptr, indices = csr.indptr.astype(np.int64), csr.indices.astype(np.int64)
+    kval = csr.data
     oms = 1.0 - rng.uniform(0.005, 0.05, n)
     cfr = 2.0 * rng.uniform(0.5, 2.0, n) / oms
     # a connected cluster of slipping blocks, the rest stuck
@@ -116,8 +119,9 @@ def test_step_matches_a_dense_reference(region, seed):
         IW[ACT, r] = b
         IW[BND, r] = b
         loc[LOC_CACHE + 5 * r : LOC_CACHE + 5 * r + 5] = boundary[b]
+    th0, hout = 0.3, 0.1  # the region step starts at 0.3 of an outer step of length 0.1
     if region:
-        loc[0], loc[1], loc[2], loc[3] = 0.0, len(boundary), 0.3, 0.1
+        loc[0], loc[1], loc[2], loc[3] = 0.0, len(boundary), th0, hout
     nact = q0 + len(blocks)
     IW[ACT, q0:nact] = blocks
     IW[APOS, blocks] = np.arange(q0, nact)
@@ -130,8 +134,9 @@ def test_step_matches_a_dense_reference(region, seed):
     before = W.copy()
     _step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
     x1, v1, a1, kv, ka = _reference(
-        h, blocks, x, v0, a0, F0s, K, diag, oms, cfr, boundary, 0.3, 0.1
+        h, blocks, x, v0, a0, F0s, K, diag, oms, cfr, boundary, th0, hout
     )
+    # the same scheme in another order of operations: agreement to round-off
     np.testing.assert_allclose(W[blocks, DN], x1, rtol=0, atol=1e-14)
     np.testing.assert_allclose(W[blocks, VN], v1, rtol=0, atol=1e-13)
     np.testing.assert_allclose(W[blocks, AN], a1, rtol=0, atol=1e-12)
@@ -144,15 +149,3 @@ def test_step_matches_a_dense_reference(region, seed):
     still = [j for j in others if j not in boundary]
     np.testing.assert_array_equal(W[still][:, [D, P, P2]], before[still][:, [D, P, P2]])
     np.testing.assert_array_equal(W[blocks, D], x[blocks])
-
-
-def _csr(K):
-    n = K.shape[0]
-    indptr = [0]
-    indices, kval = [], []
-    for i in range(n):
-        nz = np.flatnonzero(K[i])
-        indices.extend(nz.tolist())
-        kval.extend(K[i, nz].tolist())
-        indptr.append(len(indices))
-    return np.array(indptr), np.array(indices), np.array(kval, dtype=float)
