@@ -51,17 +51,19 @@ FIGURES = Path(os.environ.get("FAULTNET_FIGURES", ROOT / "examples" / "figures")
 # Load the stored sweep (or run a tiny one in fast mode)
 if FAST or not DATA.exists():
     print("fast mode: tiny sweep (ring 200, square 16x16, 3 alphas, 2 replicas, 3000 events)")
-    table = faultnet.sweep(
-        graph=["ring:200", "square:16x16:periodic"],
-        alpha=[0.5, 1.0, 2.0],
-        events=3000,
-        transient=1000,
-        replicas=2,
-        seed=1,
-        out=tempfile.mkdtemp(prefix="faultnet-showcase-"),
-        workers=1,
-        progress=False,
-    )
+    # the sweep's parts go to a temporary folder that is removed afterwards
+    with tempfile.TemporaryDirectory(prefix="faultnet-showcase-") as parts:
+        table = faultnet.sweep(
+            graph=["ring:200", "square:16x16:periodic"],
+            alpha=[0.5, 1.0, 2.0],
+            events=3000,
+            transient=1000,
+            replicas=2,
+            seed=1,
+            out=parts,
+            workers=1,
+            progress=False,
+        )
 else:
     table = pd.read_csv(DATA)
     print(

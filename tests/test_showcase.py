@@ -11,7 +11,15 @@ ROOT = Path(__file__).resolve().parent.parent
 
 
 def test_showcase_example_fast_mode(tmp_path):
-    env = dict(os.environ, FAULTNET_FAST="1", FAULTNET_FIGURES=str(tmp_path), MPLBACKEND="Agg")
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    env = dict(
+        os.environ,
+        FAULTNET_FAST="1",
+        FAULTNET_FIGURES=str(tmp_path),
+        MPLBACKEND="Agg",
+        TMPDIR=str(scratch),
+    )
     out = subprocess.run(
         [sys.executable, str(ROOT / "examples" / "plot_showcase_b_vs_alpha.py")],
         env=env,
@@ -21,6 +29,8 @@ def test_showcase_example_fast_mode(tmp_path):
     )
     assert out.returncode == 0, out.stderr
     assert (tmp_path / "showcase_b_vs_alpha.png").stat().st_size > 10_000
+    # the tiny sweep's parts do not outlive the script
+    assert not any(scratch.iterdir()), sorted(scratch.iterdir())
 
 
 def test_stored_showcase_sweep():
