@@ -106,7 +106,11 @@ def _rk4(h, act, nact, x, v, a, xs, xn, vn, an, kv, ka, u, indptr, indices, kval
 
 @nb.njit(cache=True)
 def _hermite_root(g0, d0, g1, d1):
-    """First root in [0, 1] of the cubic Hermite interpolant (values g, slopes d per step)."""
+    """A root in [0, 1] of the cubic Hermite interpolant (values g, slopes d per step).
+
+    Bisection on the sign change between g0 and g1: when the cubic has three roots
+    there, the one found need not be the first (rare; the redone step re-checks).
+    """
     lo, hi = 0.0, 1.0
     for _ in range(60):  # bisection: the sign change is between g0 and g1
         th = 0.5 * (lo + hi)
