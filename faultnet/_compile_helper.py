@@ -29,7 +29,16 @@ import sys
 
 from faultnet._system import usable_cores
 
-__all__ = ["ENV", "SPINE_SHARE", "SPINE_START", "helper_order", "record", "start", "stop"]
+__all__ = [
+    "ENV",
+    "SPINE_SHARE",
+    "SPINE_START",
+    "cache_is_cold",
+    "helper_order",
+    "record",
+    "start",
+    "stop",
+]
 
 #: set to "0" to never start the helper
 ENV = "FAULTNET_COMPILE_HELPER"
@@ -68,11 +77,15 @@ def _token(ty, table):
     raise ValueError(f"no token for the kernel argument type {ty!r}; add it to _types()")
 
 
-def _cache_is_cold(dispatcher):
-    """True if the on-disk cache holds nothing for ``dispatcher`` (internals: any doubt, False)."""
+def cache_is_cold(dispatcher):
+    """True if the on-disk cache holds nothing for ``dispatcher`` (internals: any doubt, False).
+
+    An index written by other source code (an upgraded faultnet) counts as empty: Numba's
+    index check compares the source file's stamp.
+    """
     try:
         return not dispatcher._cache._cache_file._load_index()
-    except Exception:  # noqa: BLE001 - a Numba internal moved: do not start the helper
+    except Exception:  # noqa: BLE001 - a Numba internal moved (or JIT is off): not cold
         return False
 
 
@@ -84,7 +97,7 @@ def start(entry):
     from faultnet import _compile_order
 
     name = getattr(getattr(entry, "py_func", None), "__name__", None)  # None: JIT disabled
-    if name != _compile_order.ENTRY or not _cache_is_cold(entry):
+    if name != _compile_order.ENTRY or not cache_is_cold(entry):
         return
     env = dict(os.environ, **{ENV: "0"})
     try:

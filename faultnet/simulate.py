@@ -170,6 +170,15 @@ def _helper():
     return _compile_helper
 
 
+#: the progress bar's label while the first run compiles the kernels
+COMPILING_LABEL = "faultnet: compiling the kernels (first run only, ~30 s)"
+
+
+def _compiling(kernel):
+    """True if ``kernel`` (an entry kernel) will compile: its on-disk cache has nothing for it."""
+    return _helper().cache_is_cold(kernel)
+
+
 #: error class and message per kernel status (by name: the codes live in the kernels)
 _STATUS_MESSAGES = {
     "STATUS_NONFINITE": (
@@ -406,12 +415,13 @@ def simulate(
     steps = block_steps = 0
     chunk = 256
     t0 = time.perf_counter()
+    compiling = _compiling(run.kernel)
     with tqdm(
         total=n_events,
         unit="ev",
         disable=(None if progress is None else not progress),
         leave=False,
-        desc="faultnet",
+        desc=COMPILING_LABEL if compiling else "faultnet",
     ) as bar:
         K = _kernels()
         while done < n_events:
@@ -420,6 +430,10 @@ def simulate(
             prof = run.profiles[done:] if record_profiles else run.profiles
             status = run.call(n_req, ev0 + done, cat_f[done:], cat_i[done:], prof)
             _helper().stop()  # compiled (or loaded) by now
+            if compiling:  # the bar's clock and rate count the simulation only
+                bar.unpause()
+                bar.set_description_str("faultnet")
+                compiling = False
             got = int(run.cnt[0])
             done += got
             steps += int(run.cnt[3])

@@ -9,6 +9,7 @@ import subprocess
 import sys
 import tempfile
 
+import numba
 import numpy as np
 
 import faultnet
@@ -72,3 +73,29 @@ def test_helper_takes_the_list_in_order_without_the_spine():
     got = [row[1] for row in _compile_helper.helper_order(order)]
     assert got == ["a", "b", "c", "d", "e"]
     assert _compile_helper.helper_order([]) == []
+
+
+@numba.njit(cache=True)
+def _never_compiled(x):
+    return x + 1
+
+
+def test_cache_is_cold():
+    assert _compile_helper.cache_is_cold(_never_compiled)  # nothing in its on-disk cache
+    faultnet.simulate(faultnet.CarlsonLanger(faultnet.graphs.ring(10)), 2, rng=1, progress=False)
+    from faultnet import _kernels
+
+    assert not _compile_helper.cache_is_cold(_kernels.run_events_dopri5)  # just compiled
+    assert not _compile_helper.cache_is_cold(_never_compiled.py_func)  # no JIT: never cold
+
+
+def test_progress_bar_says_when_the_first_run_compiles(monkeypatch, capsys):
+    sim = sys.modules["faultnet.simulate"]  # the module (the package re-exports the function)
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
+    faultnet.simulate(model, 2, rng=1, progress=False)  # compiled and cached from here on
+    capsys.readouterr()
+    faultnet.simulate(model, 5, rng=1, progress=True)
+    assert sim.COMPILING_LABEL not in capsys.readouterr().err
+    monkeypatch.setattr(sim, "_compiling", lambda kernel: True)  # as with a cold cache
+    faultnet.simulate(model, 5, rng=1, progress=True)
+    assert sim.COMPILING_LABEL in capsys.readouterr().err
