@@ -3,11 +3,12 @@
 import networkx as nx
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, example, given, settings
 from hypothesis import strategies as st
 from reference import reference_events
 
 import faultnet
+from faultnet.simulate import default_dt
 
 
 def random_model(seed, n=6, p_edge=0.5):
@@ -22,7 +23,7 @@ def random_model(seed, n=6, p_edge=0.5):
     return faultnet.CarlsonLanger(g), rng.uniform(0.0, 0.05, n)
 
 
-def compare_event_by_event(model, x0, n_events, rel=1e-5):
+def compare_event_by_event(model, x0, n_events, rel=1e-5, dt=None):
     ref, _ = reference_events(
         model.adjacency.toarray(),
         model.sigma_values,
@@ -35,7 +36,7 @@ def compare_event_by_event(model, x0, n_events, rel=1e-5):
     starts = [(np.asarray(x0, float), 0.0)] + [(e["x"], e["t"]) for e in ref[:-1]]
     for k, ((x, u), e) in enumerate(zip(starts, ref, strict=True)):
         res = faultnet.simulate(
-            model, 1, x0=faultnet.State.from_x(x, u), progress=False, record_slips=True
+            model, 1, x0=faultnet.State.from_x(x, u), dt=dt, progress=False, record_slips=True
         )
         row = res.events.iloc[0]
         assert row["hypocenter"] == model.nodes[e["hypocenter"]], k
@@ -81,6 +82,15 @@ def test_whole_sequence_on_a_heterogeneous_chain():
 
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2**31 - 1), n=st.integers(2, 5))
+@example(seed=16405, n=5)
 def test_hypothesis_random_graphs(seed, n):
+    """The event logic on random graphs, at half the default step.
+
+    Random heterogeneous events can be long, and at the default step their error
+    reaches the 1e-5 tolerance.  Seed 16405 (n = 5) has a third event of 5 blocks over
+    8 time units: at the default step its S is off by 7.4e-6 and its duration by 1.8e-5;
+    at half the step by 3.9e-7 and 9.5e-7 (fourth to fifth order; 1.0e-9 and 2.5e-9 at
+    dt / 8).  The default step's accuracy is what ``test_convergence.py`` checks.
+    """
     model, x0 = random_model(seed, n=n, p_edge=0.7)
-    compare_event_by_event(model, x0, 3)
+    compare_event_by_event(model, x0, 3, dt=default_dt(model) / 2)
