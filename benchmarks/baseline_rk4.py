@@ -252,15 +252,13 @@ def run_events(n_events, x, u, h, indptr, indices, kval, oms, cfr, out):
 def model_arrays(model):
     """CSR arrays and friction constants of a faultnet model, in the kernel's form."""
     adj = model.adjacency.tocsr()
-    sigma = np.broadcast_to(np.asarray(model.sigma_values, float), (model.n,))
-    alpha = np.broadcast_to(np.asarray(model.alpha_values, float), (model.n,))
-    oms = 1.0 - sigma
+    oms = 1.0 - model.sigma_values  # per-block arrays of the model
     return (
         adj.indptr.astype(np.int64),
         adj.indices.astype(np.int64),
         adj.data.astype(np.float64),
-        np.ascontiguousarray(oms),
-        np.ascontiguousarray(2.0 * alpha / oms),
+        oms,
+        2.0 * model.alpha_values / oms,
     )
 
 
@@ -328,8 +326,7 @@ def _steady_state(wid, transient_t):
     from run import _warm_state
 
     model = _model(wid)
-    state, n_trans, t_end, wall = _warm_state(model, transient_t)
-    return model, state
+    return model, _warm_state(model, transient_t)[0]
 
 
 def time_workload(wid, events, transient_t, repeat, rk4=False):
