@@ -33,6 +33,12 @@ times::
 
     python benchmarks/baseline_rk4.py check
     python benchmarks/baseline_rk4.py time W1 W2 W3 W4 W5 W6 --events 100000 --repeat 3
+
+``typical W1 --coefficients 0.12 0.08`` compares the errors of S on typical
+multi-block events (the named three are not typical: the baseline at 0.12 is
+about five times less accurate than faultnet on a W1 event); ``time
+--coefficient 0.08`` then times the baseline at the step that matches
+faultnet's typical accuracy.
 """
 
 from __future__ import annotations
@@ -320,6 +326,54 @@ def check(coefficients):
         )  # fmt: skip
 
 
+def typical(model, state, count, coefficients, reference=0.015):
+    """S errors on typical events: the first ``count`` multi-block events from ``state``.
+
+    Each event starts from faultnet's own pre-event state; faultnet (default
+    dt) and the baseline at each coefficient are compared with the baseline
+    at ``reference`` (an RK4 error (0.12 / 0.015)^4 = 4,096 times smaller than
+    at 0.12).  Returns {"faultnet" or coefficient: array of relative errors}
+    and the events' sizes.
+    """
+    import faultnet
+
+    arrays = model_arrays(model)
+    steps = {c: step_size(model, c) for c in (*coefficients, reference)}
+    errs = {"faultnet": [], **{c: [] for c in coefficients}}
+    sizes = []
+    while len(sizes) < count:
+        res = faultnet.simulate(model, 1, x0=state, progress=False, record_slips=False)
+        row = res.events.iloc[0]
+        if row.n_blocks >= 2:
+            off = math.floor(state.u)
+            s = {}
+            for c, h in steps.items():
+                out = np.zeros((1, 5))
+                run_events(1, state.x - off, state.u - off, h, *arrays, out)
+                s[c] = out[0, 1]
+            errs["faultnet"].append(abs(row.S / s[reference] - 1.0))
+            for c in coefficients:
+                errs[c].append(abs(s[c] / s[reference] - 1.0))
+            sizes.append(int(row.n_blocks))
+        state = res.state
+    return {k: np.array(v) for k, v in errs.items()}, np.array(sizes)
+
+
+def _print_typical(wid, count, coefficients, transient_t=2.0):
+    errs, sizes = typical(*_steady_state(wid, transient_t), count, coefficients)
+    print(f"{wid}: {count} consecutive multi-block events ({sizes.min()}-{sizes.max()} blocks)")
+    print("| code | median error | 90% | largest | median, events of >= 20 blocks |")
+    print("|---|---|---|---|---|")
+    big = sizes >= 20
+    for name, e in errs.items():
+        label = name if isinstance(name, str) else f"baseline at {name}"
+        med_big = f"{np.median(e[big]):.1e}" if big.any() else "-"
+        print(
+            f"| {label} | {np.median(e):.1e} | {np.quantile(e, 0.9):.1e} | {e.max():.1e} "
+            f"| {med_big} |"
+        )
+
+
 def _steady_state(wid, transient_t):
     """The workload's model and its state after the transient (as run.py starts its runs)."""
     from events_ab import _model
@@ -329,17 +383,18 @@ def _steady_state(wid, transient_t):
     return model, _warm_state(model, transient_t)[0]
 
 
-def time_workload(wid, events, transient_t, repeat, rk4=False):
+def time_workload(wid, events, transient_t, repeat, rk4=False, coefficient=DT_COEFFICIENT):
     """events/s of the baseline and of faultnet from the same steady state.
 
     The codes alternate ``repeat`` times (this VM drifts by 15-25% within an hour);
     each keeps its best round.  ``rk4``: time faultnet's RK4 as well.
+    ``coefficient``: the baseline's step coefficient.
     """
     import faultnet
 
     model, state = _steady_state(wid, transient_t)
     arrays = model_arrays(model)
-    h = step_size(model)
+    h = step_size(model, coefficient)
     off = math.floor(state.u)
     best_b = best_f = best_r = math.inf
     run_events(1, state.x - off, state.u - off, h, *arrays, np.zeros((1, 5)))  # compile first
@@ -384,9 +439,19 @@ def main(argv=None):
     t.add_argument("--transient-t", type=float, default=2.0)
     t.add_argument("--repeat", type=int, default=3, help="alternating rounds (best kept)")
     t.add_argument("--rk4", action="store_true", help="time faultnet's RK4 too")
+    t.add_argument(
+        "--coefficient", type=float, default=DT_COEFFICIENT, help="the baseline's step coefficient"
+    )
+    ty = sub.add_parser("typical", help="S errors on typical events of a workload")
+    ty.add_argument("workload")
+    ty.add_argument("--count", type=int, default=150)
+    ty.add_argument("--coefficients", type=float, nargs="+", default=[0.12, 0.08])
     args = ap.parse_args(argv)
     if args.cmd == "check":
         check(args.coefficients)
+        return
+    if args.cmd == "typical":
+        _print_typical(args.workload, args.count, args.coefficients)
         return
     print(
         "| workload | baseline RK4 ev/s | faultnet ev/s (DP5) | ratio | faultnet RK4 ev/s "
@@ -395,7 +460,9 @@ def main(argv=None):
     )
     print("|---|---|---|---|---|---|---|---|")
     for wid in args.workloads:
-        r = time_workload(wid, args.events, args.transient_t, args.repeat, args.rk4)
+        r = time_workload(
+            wid, args.events, args.transient_t, args.repeat, args.rk4, args.coefficient
+        )
         rk4 = "-" if r["faultnet_rk4_ev_s"] is None else f"{r['faultnet_rk4_ev_s']:,.0f}"
         print(
             f"| {wid} | {r['baseline_ev_s']:,.0f} | {r['faultnet_ev_s']:,.0f} | "
