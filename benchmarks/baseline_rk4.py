@@ -341,7 +341,9 @@ def typical(model, state, count, coefficients, reference=0.015):
     steps = {c: step_size(model, c) for c in (*coefficients, reference)}
     errs = {"faultnet": [], **{c: [] for c in coefficients}}
     sizes = []
-    while len(sizes) < count:
+    for _ in range(1000 * count):
+        if len(sizes) == count:
+            break
         res = faultnet.simulate(model, 1, x0=state, progress=False, record_slips=False)
         row = res.events.iloc[0]
         if row.n_blocks >= 2:
@@ -356,6 +358,8 @@ def typical(model, state, count, coefficients, reference=0.015):
                 errs[c].append(abs(s[c] / s[reference] - 1.0))
             sizes.append(int(row.n_blocks))
         state = res.state
+    if len(sizes) < count:
+        raise RuntimeError(f"only {len(sizes)} multi-block events in {1000 * count} events")
     return {k: np.array(v) for k, v in errs.items()}, np.array(sizes)
 
 
