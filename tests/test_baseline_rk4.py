@@ -84,6 +84,7 @@ def test_typical_errors_against_the_fine_baseline():
     assert len(sizes) == 12 and sizes.min() >= 2
     # RK4: halving the step cuts the error about 16-fold (a mix-up of the reference fails)
     assert np.median(errs[0.16]) > 6.0 * np.median(errs[0.08]) > 0.0
-    # faultnet's default step is as accurate as the baseline at 0.08 (measured on W1: 1.9e-7
-    # against 2.0e-7 median)
-    assert 0.0 < np.median(errs["faultnet"]) < 5e-6
+    # faultnet's default step is about as accurate as the baseline at 0.08 (W1: 1.9e-7 against
+    # 2.0e-7 median): between the baseline at twice that step and at half of it (16x each way)
+    fn = np.median(errs["faultnet"])
+    assert np.median(errs[0.08]) / 16.0 < fn < np.median(errs[0.16]), fn
