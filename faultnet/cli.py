@@ -14,7 +14,13 @@ import os
 import sys
 import time
 
-from faultnet.exceptions import FaultnetError, InvalidParameterError
+from faultnet._version import __version__
+from faultnet.exceptions import (
+    FaultnetError,
+    InvalidParameterError,
+    OutputExistsError,
+    SweepError,
+)
 
 __all__ = ["build_parser", "main"]
 
@@ -130,7 +136,6 @@ examples:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    from faultnet import __version__
 
     parser = argparse.ArgumentParser(
         prog="faultnet",
@@ -317,8 +322,8 @@ def _size(path):
 def cmd_simulate(args, out):
     import numpy as np
 
-    from faultnet.io import catalog_stats, fit_b_values, format_stats
     from faultnet.runner import run_from_spec
+    from faultnet.summary import catalog_stats, fit_b_values, format_stats
 
     if args.graph is None and not args.resume:
         raise InvalidParameterError("GRAPH is required (e.g. ring:200); see faultnet simulate -h")
@@ -389,8 +394,9 @@ def cmd_simulate(args, out):
 
 
 def cmd_info(args, out):
-    from faultnet.io import catalog_stats, format_metadata, format_stats, read_metadata
+    from faultnet.io import read_metadata
     from faultnet.runner import checkpoint_status
+    from faultnet.summary import catalog_stats, format_metadata, format_stats
 
     path = args.catalog
     if os.path.isdir(path):
@@ -420,7 +426,7 @@ def cmd_info(args, out):
 
 
 def _write_csv(table, path, force):
-    from faultnet.io import OutputExistsError, atomic_path
+    from faultnet.atomic import atomic_path
 
     if os.path.exists(path) and not force:
         raise OutputExistsError(f"{path} exists; refusing to overwrite it (use --force)")
@@ -458,7 +464,7 @@ def _print_table(table, out):
 
 
 def cmd_sweep(args, out):
-    from faultnet.sweep import SweepError, sweep
+    from faultnet.sweep import sweep
 
     if args.scheduler and args.workers:
         raise InvalidParameterError("give either --workers or --scheduler, not both")

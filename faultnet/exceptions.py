@@ -1,11 +1,25 @@
-"""Domain errors raised by faultnet."""
+"""Every error class faultnet raises, in one place.
+
+All derive from :class:`FaultnetError`; each also derives from the built-in
+exception a caller would expect (``ValueError`` for a bad argument,
+``OSError`` for a bad file, ``RuntimeError`` for a failed run), so
+``except ValueError`` keeps working.
+
+>>> issubclass(InvalidParameterError, ValueError), issubclass(CatalogError, OSError)
+(True, True)
+"""
 
 __all__ = [
+    "CatalogError",
+    "ConfigError",
     "EventTooLongError",
     "FaultnetError",
+    "GraphSpecError",
     "InvalidParameterError",
     "NumericalInstabilityError",
+    "OutputExistsError",
     "SimulationError",
+    "SweepError",
 ]
 
 
@@ -15,6 +29,22 @@ class FaultnetError(Exception):
 
 class InvalidParameterError(FaultnetError, ValueError):
     """A model, graph or run parameter is outside its allowed range."""
+
+
+class GraphSpecError(InvalidParameterError):
+    """A graph spec could not be parsed or built; the message lists the valid forms."""
+
+
+class ConfigError(InvalidParameterError):
+    """A sweep configuration is malformed; the message names the field and the allowed values."""
+
+
+class OutputExistsError(InvalidParameterError, FileExistsError):
+    """Refusing to overwrite an existing output (pass force / overwrite)."""
+
+
+class CatalogError(FaultnetError, OSError):
+    """A file is missing, truncated, corrupt or not a faultnet catalog."""
 
 
 class SimulationError(FaultnetError, RuntimeError):
@@ -27,3 +57,11 @@ class NumericalInstabilityError(SimulationError):
 
 class EventTooLongError(SimulationError):
     """A slip event lasted longer than the allowed duration."""
+
+
+class SweepError(FaultnetError, RuntimeError):
+    """Some points of a sweep failed; ``summary`` holds the table of all points."""
+
+    def __init__(self, message, summary=None):
+        super().__init__(message)
+        self.summary = summary

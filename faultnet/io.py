@@ -7,11 +7,10 @@ version, timings, provenance) is stored as JSON under the key ``faultnet``
 of the Parquet schema metadata, so any Parquet reader sees the table and
 :func:`read_catalog` gives back the same DataFrame and the same dict.
 
-Every file is written atomically: to a temporary name in the same folder,
-flushed to disk (``fsync``), then renamed over the target (``os.replace``),
-and the folder is synced.  A reader therefore sees either no file or a
-complete one, whenever the writer is killed.  Nothing is overwritten unless
-asked (``overwrite=True``).
+Every file is written atomically (see :mod:`faultnet.atomic`): a reader
+sees either no file or a complete one, whenever the writer is killed.
+Nothing is overwritten unless asked (``overwrite=True``).  Statistics and
+text summaries of a catalog file live in :mod:`faultnet.summary`.
 
 Long runs are written in parts (:func:`write_part`, one per chunk of events)
 and joined at the end by :func:`merge_parts`, which streams one part at a
@@ -29,11 +28,8 @@ time: memory stays O(chunk), whatever the length of the catalog.
 
 from __future__ import annotations
 
-import contextlib
 import json
-import math
 import os
-import secrets
 import time
 from dataclasses import dataclass, field
 
@@ -42,7 +38,18 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from faultnet.exceptions import FaultnetError, InvalidParameterError
+from faultnet._version import __version__
+from faultnet.atomic import (
+    atomic_path,
+    atomic_write_bytes,
+    atomic_write_json,
+    fsync_dir,
+    fsync_file,
+    is_tmp_name,
+    json_default,
+    tmp_name,
+)
+from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
 
 __all__ = [
     "CATALOG_FORMAT",
@@ -52,13 +59,20 @@ __all__ = [
     "CatalogError",
     "OutputExistsError",
     "atomic_path",
-    "catalog_stats",
-    "fit_b_values",
+    "atomic_write_bytes",
+    "atomic_write_json",
+    "events_to_table",
+    "fsync_dir",
+    "fsync_file",
+    "is_tmp_name",
     "iter_catalog",
     "merge_parts",
+    "open_catalog_file",
+    "provenance",
     "read_catalog",
-    "read_magnitudes",
     "read_metadata",
+    "tmp_name",
+    "utc_now",
     "write_catalog",
     "write_part",
 ]
@@ -67,119 +81,17 @@ CATALOG_FORMAT = "faultnet-catalog"
 FORMAT_VERSION = 1
 #: key of the JSON metadata in the Parquet schema metadata
 METADATA_KEY = b"faultnet"
-#: magnitudes beyond this many are thinned (every k-th event) for b fits
-MAX_FIT_EVENTS = 2_000_000
 _COMPRESSION = "zstd"
-_TMP_MARK = ".tmp-"
-
-
-class CatalogError(FaultnetError, OSError):
-    """A file is missing, truncated, corrupt or not a faultnet catalog."""
-
-
-class OutputExistsError(InvalidParameterError, FileExistsError):
-    """Refusing to overwrite an existing output (pass force / overwrite)."""
-
-
-# --------------------------------------------------------------------------- atomic files
-
-
-def fsync_dir(path):
-    """Flush a folder's entries (new names, renames) to disk; a no-op where unsupported."""
-    try:
-        fd = os.open(path or ".", os.O_RDONLY)
-    except OSError:
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
-
-
-def fsync_file(path):
-    fd = os.open(path, os.O_RDONLY)
-    try:
-        os.fsync(fd)
-    finally:
-        os.close(fd)
-
-
-def tmp_name(path):
-    """A unique temporary name next to ``path`` (hidden, recognisable by ``.tmp-``)."""
-    folder, name = os.path.split(os.fspath(path))
-    return os.path.join(folder, f".{name}{_TMP_MARK}{os.getpid()}-{secrets.token_hex(4)}")
-
-
-def is_tmp_name(name):
-    """True for names made by :func:`tmp_name` (leftovers of a killed writer)."""
-    return name.startswith(".") and _TMP_MARK in name
-
-
-@contextlib.contextmanager
-def atomic_path(path, overwrite=True):
-    """Yield a temporary path; on success move it onto ``path`` atomically.
-
-    The temporary file is fsynced, renamed with ``os.replace`` and the folder
-    fsynced.  On an exception the temporary file is removed and ``path`` is
-    untouched.
-
-    >>> import tempfile, os
-    >>> p = os.path.join(tempfile.mkdtemp(), "x.txt")
-    >>> with atomic_path(p) as tmp:
-    ...     _ = open(tmp, "w").write("hello")
-    >>> open(p).read()
-    'hello'
-    """
-    path = os.fspath(path)
-    if not overwrite and os.path.exists(path):
-        raise OutputExistsError(f"{path} exists; refusing to overwrite it")
-    tmp = tmp_name(path)
-    try:
-        yield tmp
-        fsync_file(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.remove(tmp)
-        raise
-    fsync_dir(os.path.dirname(path))
-
-
-def atomic_write_bytes(path, data):
-    """Write ``data`` to ``path`` atomically."""
-    with atomic_path(path) as tmp, open(tmp, "wb") as fh:
-        fh.write(data)
-
-
-def atomic_write_json(path, obj):
-    """Write ``obj`` as indented JSON to ``path`` atomically."""
-    atomic_write_bytes(path, (json.dumps(obj, indent=2, default=_json_default) + "\n").encode())
 
 
 # --------------------------------------------------------------------------- metadata
-
-
-def _json_default(obj):
-    if isinstance(obj, np.integer):
-        return int(obj)
-    if isinstance(obj, np.floating):
-        return float(obj)
-    if isinstance(obj, np.bool_):
-        return bool(obj)
-    if isinstance(obj, np.ndarray):
-        return obj.tolist()
-    if isinstance(obj, (set, frozenset)):
-        return sorted(obj)
-    raise TypeError(f"metadata value {obj!r} ({type(obj).__name__}) is not JSON-serialisable")
 
 
 def _encode_metadata(md):
     md = dict(md)
     md.setdefault("format", CATALOG_FORMAT)
     md.setdefault("format_version", FORMAT_VERSION)
-    return json.dumps(md, default=_json_default, sort_keys=True).encode()
+    return json.dumps(md, default=json_default, sort_keys=True).encode()
 
 
 def _decode_metadata(raw):
@@ -196,8 +108,6 @@ def provenance() -> dict:
 
     import numba
     import scipy
-
-    from faultnet import __version__
 
     return {
         "faultnet": __version__,
@@ -307,7 +217,12 @@ class Catalog:
         return len(self.events)
 
     def summary(self, transient=None) -> str:
-        """Parameters, events and b-values of the catalog file (see :func:`catalog_stats`)."""
+        """Parameters, events and b-values of the catalog file.
+
+        See :func:`faultnet.summary.catalog_stats`.
+        """
+        from faultnet.summary import catalog_stats, format_metadata, format_stats
+
         if not self.path:
             raise CatalogError("summary() needs a catalog read from a file")
         return (
@@ -341,6 +256,16 @@ def _file_metadata(path):
         raise CatalogError(f"{path}: faultnet metadata is not valid JSON: {exc}") from exc
 
 
+def open_catalog_file(path):
+    """``(path, metadata)`` of a catalog file, reading only its footer.
+
+    Raises :class:`~faultnet.exceptions.CatalogError` if the file is missing,
+    a folder, unreadable or carries no faultnet metadata.
+    """
+    path = _check_catalog_file(path)
+    return path, _file_metadata(path)[1]
+
+
 def read_metadata(path) -> dict:
     """The metadata dict of a catalog file, reading only its footer."""
     return _file_metadata(_check_catalog_file(path))[1]
@@ -364,8 +289,7 @@ def read_catalog(path, columns=None) -> Catalog:
     CatalogError
         If the file is missing, truncated, corrupt or carries no faultnet metadata.
     """
-    path = _check_catalog_file(path)
-    _, md = _file_metadata(path)
+    path, md = open_catalog_file(path)
     try:
         table = pq.read_table(path, columns=columns)
     except (OSError, pa.ArrowException) as exc:
@@ -373,21 +297,9 @@ def read_catalog(path, columns=None) -> Catalog:
     return Catalog(events=_to_pandas(table), metadata=md, path=path)
 
 
-def _row_groups(pf, columns):
-    """Yield one row group at a time as a Table.
-
-    ``ParquetFile.iter_batches`` keeps read-ahead buffers that grew the
-    resident memory of a 10^7-event summary to ~0.8 GB; reading row groups
-    one by one (each at most one writer chunk) stays O(chunk).
-    """
-    for i in range(pf.metadata.num_row_groups):
-        yield pf.read_row_group(i, columns=columns)
-
-
 def iter_catalog(path, batch_size=1_000_000, columns=None):
     """Yield the catalog as DataFrames of at most ``batch_size`` rows (streaming)."""
-    path = _check_catalog_file(path)
-    _file_metadata(path)
+    path, _ = open_catalog_file(path)
     pf = pq.ParquetFile(path)
     for batch in pf.iter_batches(batch_size=batch_size, columns=columns):
         yield _to_pandas(pa.Table.from_batches([batch]))
@@ -422,202 +334,3 @@ def write_catalog(obj, path, metadata=None, *, overwrite=False):
     md.setdefault("created", utc_now())
     md.update(metadata or {})
     return write_part(events, path, md, overwrite=overwrite)
-
-
-# --------------------------------------------------------------------------- statistics
-
-
-def read_magnitudes(path, skip=0, max_n=MAX_FIT_EVENTS):
-    """Magnitudes ``M`` of a catalog after its first ``skip`` rows, streamed.
-
-    Returns ``(M, step)``: when more than ``max_n`` remain, every ``step``-th
-    event is kept so that memory stays bounded.
-    """
-    path = _check_catalog_file(path)
-    _file_metadata(path)
-    pf = pq.ParquetFile(path)
-    n = pf.metadata.num_rows
-    remaining = max(n - int(skip), 0)
-    step = max(1, math.ceil(remaining / max_n)) if max_n else 1
-    out = []
-    row = 0
-    try:
-        for batch in _row_groups(pf, ["M"]):
-            m = batch.column(0).to_numpy()
-            start, stop = row, row + len(m)
-            row = stop
-            if stop <= skip:
-                continue
-            first = max(skip, start)
-            # keep rows r >= skip with (r - skip) % step == 0
-            offset = (-(first - skip)) % step
-            out.append(m[first - start + offset :: step].astype(np.float64, copy=True))
-    except (OSError, pa.ArrowException) as exc:
-        raise CatalogError(f"cannot read magnitudes of {path}: {exc}") from exc
-    return (np.concatenate(out) if out else np.zeros(0)), step
-
-
-def fit_b_values(M, m_min=None, m_max=None) -> dict:
-    """Both b-value fits of magnitudes ``M`` (non-finite values dropped).
-
-    The MLE (:func:`faultnet.stats.fit_b_mle`) uses ``M >= m_min``, by
-    default the maximum-curvature completeness magnitude; the least-squares
-    fit (:func:`faultnet.stats.fit_b_lsq`) uses the window ``[m_min, m_max]``,
-    by default up to the largest magnitude.
-
-    Returns a dict with ``b_mle``, ``b_mle_err``, ``m_min``, ``m_max``,
-    ``n_fit``, ``b_lsq``, ``b_lsq_err`` (NaN where a fit was impossible, with
-    the reason under ``fit_note``).
-    """
-    from faultnet import stats
-
-    M = np.asarray(M, dtype=np.float64)
-    M = M[np.isfinite(M)]
-    nan = float("nan")
-    out = {
-        "b_mle": nan,
-        "b_mle_err": nan,
-        "m_min": nan,
-        "m_max": nan,
-        "n_fit": 0,
-        "b_lsq": nan,
-        "b_lsq_err": nan,
-    }
-    notes = []
-    try:
-        mle = stats.fit_b_mle(M, m_min=m_min)
-    except (ValueError, FaultnetError, ZeroDivisionError, FloatingPointError) as exc:
-        notes.append(f"MLE fit failed: {exc}")
-    else:
-        hi = mle.m_max if m_max is None else float(m_max)
-        out.update(
-            b_mle=float(mle.b),
-            b_mle_err=float(mle.b_err),
-            m_min=float(mle.m_min),
-            m_max=hi,
-            n_fit=int(mle.n),
-        )
-        try:
-            lsq = stats.fit_b_lsq(M, mle.m_min, hi)
-        except (ValueError, FaultnetError, ZeroDivisionError, FloatingPointError) as exc:
-            notes.append(f"LSQ fit failed: {exc}")
-        else:
-            out.update(b_lsq=float(lsq.b), b_lsq_err=float(lsq.b_err))
-    if notes:
-        out["fit_note"] = "; ".join(notes)
-    return out
-
-
-def catalog_stats(path, transient=None, m_min=None, m_max=None, max_n=MAX_FIT_EVENTS) -> dict:
-    """Summary of a catalog file, streamed column by column.
-
-    ``transient`` events at the start are left out of the fits (default:
-    the ``transient`` recorded in the metadata, else 0).  Returns events,
-    plate-time range, magnitude range, the largest event's blocks and the b
-    fits of :func:`fit_b_values` (``m_min``, ``m_max``: its fit window).
-    """
-    path = _check_catalog_file(path)
-    _, md = _file_metadata(path)
-    if transient is None:
-        transient = int(md.get("transient") or 0)
-    pf = pq.ParquetFile(path)
-    n = pf.metadata.num_rows
-    t_first = t_last = float("nan")
-    m_lo, m_hi, big = math.inf, -math.inf, 0
-    try:
-        for batch in _row_groups(pf, ["t", "M", "n_blocks"]):
-            t = batch.column(0).to_numpy()
-            m = batch.column(1).to_numpy()
-            if len(t) == 0:
-                continue
-            if math.isnan(t_first):
-                t_first = float(t[0])
-            t_last = float(t[-1])
-            fin = m[np.isfinite(m)]
-            if fin.size:
-                m_lo, m_hi = min(m_lo, float(fin.min())), max(m_hi, float(fin.max()))
-            big = max(big, int(batch.column(2).to_numpy().max()))
-    except (OSError, pa.ArrowException) as exc:
-        raise CatalogError(f"cannot read catalog {path}: {exc}") from exc
-    M, step = read_magnitudes(path, skip=transient, max_n=max_n)
-    out = {
-        "events": n,
-        "transient": int(transient),
-        "events_fit": max(n - int(transient), 0),
-        "fit_step": step,
-        "t_first": t_first,
-        "t_last": t_last,
-        "M_min": m_lo if n else float("nan"),
-        "M_max": m_hi if n else float("nan"),
-        "largest_n_blocks": big,
-    }
-    out.update(fit_b_values(M, m_min=m_min, m_max=m_max))
-    return out
-
-
-def _fmt(x, spec=".3f"):
-    return "nan" if x is None or (isinstance(x, float) and math.isnan(x)) else format(x, spec)
-
-
-def format_stats(md, st) -> str:
-    """Human-readable lines for :func:`catalog_stats` output."""
-    lines = [
-        f"events      {st['events']:,} (first {md.get('first_event', 0)}); plate time "
-        f"{_fmt(st['t_first'], '.6g')} .. {_fmt(st['t_last'], '.6g')}",
-        f"magnitude   M = ln S in [{_fmt(st['M_min'])}, {_fmt(st['M_max'])}]; largest event "
-        f"{st['largest_n_blocks']} blocks",
-    ]
-    fit_on = f"{st['events_fit']:,} events after a transient of {st['transient']:,}"
-    if st.get("fit_step", 1) > 1:
-        fit_on += f", every {st['fit_step']}th"
-    lines.append(
-        f"b (MLE)     {_fmt(st['b_mle'])} ± {_fmt(st['b_mle_err'])} for M >= {_fmt(st['m_min'])} "
-        f"(n = {st['n_fit']:,}; {fit_on})"
-    )
-    lines.append(
-        f"b (LSQ)     {_fmt(st['b_lsq'])} ± {_fmt(st['b_lsq_err'])} on "
-        f"[{_fmt(st['m_min'])}, {_fmt(st['m_max'])}]"
-    )
-    if st.get("fit_note"):
-        lines.append(f"note        {st['fit_note']}")
-    return "\n".join(lines)
-
-
-def format_metadata(md) -> str:
-    """Human-readable lines for a catalog's parameters and provenance."""
-    lines = []
-    graph = f"{md.get('graph')}"
-    if md.get("graph_spec"):
-        graph += f"  (spec {md['graph_spec']})"
-    lines.append(f"graph       {graph}: {md.get('n_blocks')} blocks, {md.get('n_springs')} springs")
-    if md.get("graph_hash"):
-        lines.append(f"graph hash  sha256:{md['graph_hash']}")
-    het = "  (per-edge/per-node values in the graph)" if md.get("heterogeneous") else ""
-    lines.append(
-        f"parameters  k={md.get('k')} sigma={md.get('sigma')} alpha={md.get('alpha')} "
-        f"dt={md.get('dt')}{het}"
-    )
-    seed = f"SeedSequence entropy {md.get('seed_entropy')}, spawn key {md.get('seed_spawn_key')}"
-    if md.get("graph_seed_entropy") is not None:
-        seed += (
-            f"; graph disorder: entropy {md['graph_seed_entropy']}, spawn key "
-            f"{md.get('graph_seed_spawn_key')}"
-        )
-    lines.append(f"seed        {seed}")
-    prov = md.get("provenance") or {}
-    extra = ", ".join(f"{k} {prov[k]}" for k in ("python", "numpy", "numba") if k in prov)
-    lines.append(f"faultnet    {md.get('faultnet_version')}" + (f" ({extra})" if extra else ""))
-    wall = md.get("wall_time_s")
-    run = []
-    if md.get("created"):
-        run.append(f"started {md['created']}")
-    if md.get("finished"):
-        run.append(f"finished {md['finished']}")
-    if wall:
-        rate = f" = {md.get('n_events', 0) / wall:,.0f} events/s" if md.get("n_events") else ""
-        run.append(f"{wall:.2f} s simulating{rate}")
-    if md.get("sessions", 1) > 1:
-        run.append(f"{md['sessions']} sessions (resumed)")
-    if run:
-        lines.append("run         " + "; ".join(run))
-    return "\n".join(lines)

@@ -77,12 +77,12 @@ from faultnet.io import (
     CatalogError,
     OutputExistsError,
     atomic_write_json,
-    catalog_stats,
     is_tmp_name,
     read_metadata,
     utc_now,
 )
 from faultnet.runner import CHECKPOINT_SUFFIX, checkpoint_dir, checkpoint_status
+from faultnet.summary import catalog_stats
 
 if sys.version_info >= (3, 11):
     import tomllib

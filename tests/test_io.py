@@ -1,4 +1,4 @@
-"""Parquet catalogs: round trips, atomic writes, chunked runs and their memory bound."""
+"""Parquet catalogs (faultnet.io): round trips, bad files, chunked runs and their memory bound."""
 
 import os
 import tracemalloc
@@ -13,6 +13,8 @@ import pytest
 import faultnet
 from faultnet import io as fio
 from faultnet import runner
+from faultnet.atomic import atomic_path
+from faultnet.exceptions import CatalogError, OutputExistsError
 from faultnet.specs import graph_hash
 
 
@@ -63,10 +65,10 @@ def test_never_overwrites_and_atomic(tmp_path, ring_result):
     path = tmp_path / "cat.parquet"
     fio.write_catalog(ring_result, path)
     before = path.read_bytes()
-    with pytest.raises(fio.OutputExistsError, match="refusing to overwrite"):
+    with pytest.raises(OutputExistsError, match="refusing to overwrite"):
         fio.write_catalog(ring_result, path)
     # a writer that dies half-way leaves the old file and no temporary file
-    with pytest.raises(RuntimeError), fio.atomic_path(path) as tmp:
+    with pytest.raises(RuntimeError), atomic_path(path) as tmp:
         with open(tmp, "wb") as fh:
             fh.write(b"half a file")
         raise RuntimeError("killed")
@@ -81,12 +83,12 @@ def test_bad_files_are_reported(tmp_path, ring_result):
     fio.write_catalog(ring_result, path)
     data = path.read_bytes()
     (tmp_path / "trunc.parquet").write_bytes(data[: len(data) // 2])
-    with pytest.raises(fio.CatalogError, match="truncated or corrupt"):
+    with pytest.raises(CatalogError, match="truncated or corrupt"):
         fio.read_catalog(tmp_path / "trunc.parquet")
     pq.write_table(pa.table({"x": [1, 2]}), tmp_path / "other.parquet")
-    with pytest.raises(fio.CatalogError, match="without faultnet metadata"):
+    with pytest.raises(CatalogError, match="without faultnet metadata"):
         fio.read_metadata(tmp_path / "other.parquet")
-    with pytest.raises(fio.CatalogError, match="does not exist"):
+    with pytest.raises(CatalogError, match="does not exist"):
         fio.read_catalog(tmp_path / "missing.parquet")
 
 
@@ -126,12 +128,9 @@ def test_chunked_run_is_bit_identical(tmp_path):
     assert md["transient"] == 100 and md["sessions"] == 1
     assert pq.ParquetFile(out).metadata.num_row_groups >= 8  # written in parts
     assert sorted(os.listdir(tmp_path)) == ["run.parquet"]  # checkpoint folder removed
-    # iter_catalog streams the same rows; magnitudes can be thinned
+    # iter_catalog streams the same rows
     streamed = pd.concat(fio.iter_catalog(out, batch_size=700), ignore_index=True)
     pd.testing.assert_frame_equal(streamed, ref.events, check_exact=True)
-    M, step = fio.read_magnitudes(out, skip=100, max_n=1000)
-    assert step == 3
-    np.testing.assert_array_equal(M, ref.events["M"].to_numpy()[100::3])
 
 
 def _peak_bytes(model, n, out, chunk):
@@ -145,26 +144,24 @@ def _peak_bytes(model, n, out, chunk):
     return peak
 
 
-def test_memory_stays_within_one_chunk(tmp_path, monkeypatch):
+def _row_group_sizes(path):
+    meta = pq.ParquetFile(path).metadata
+    return [meta.row_group(i).num_rows for i in range(meta.num_row_groups)]
+
+
+def test_memory_stays_within_one_chunk(tmp_path):
     """Peak memory of a long run does not grow with its length (O(N + chunk))."""
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(50))
     # warm up: compile the kernel, import the writers
     runner.simulate_to_parquet(
         model, 1500, tmp_path / "warm.parquet", rng=1, chunk_events=1000, progress=False
     )
-    sizes = []
-    write = runner.write_part
-
-    def spy(events, *args, **kwargs):
-        sizes.append(len(events))
-        return write(events, *args, **kwargs)
-
-    monkeypatch.setattr(runner, "write_part", spy)
     chunk = 1000
     short = _peak_bytes(model, 8_000, tmp_path / "short.parquet", chunk)
     long = _peak_bytes(model, 40_000, tmp_path / "long.parquet", chunk)
     full = fio.read_catalog(tmp_path / "long.parquet").events.memory_usage(deep=True).sum()
-    assert max(sizes) <= chunk  # the writer never holds more than one chunk
-    assert len(sizes) == 48
+    # each chunk file becomes one row group of the merged catalog: no chunk held more
+    assert _row_group_sizes(tmp_path / "short.parquet") == [chunk] * 8
+    assert _row_group_sizes(tmp_path / "long.parquet") == [chunk] * 40
     assert long < 0.25 * full, (long, full)  # far below the whole catalog (2.6 MB)
     assert long < 1.5 * short + 100_000, (short, long)  # independent of the run length
