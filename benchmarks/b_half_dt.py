@@ -29,7 +29,7 @@ import time
 import numpy as np
 
 import faultnet
-from faultnet.simulate import default_dt
+from faultnet import default_dt
 
 
 def batch_b(M, fit, batches):

@@ -5,7 +5,7 @@ events in small regions instead of stepping every slipping block to each one.
 They change single large events by about the integrator's own error
 (``tests/test_local.py``); this checks what matters for users: b on the
 periodic 150^2 lattice (W4, the paper's Fig. 8b) with local regions, with the
-exact whole-event treatment (``simulate.LOCAL_REGIONS_FROM = inf``), and with
+exact whole-event treatment (``RunOptions(local_regions_from=inf)``), and with
 the whole-event treatment at half the step.  For each seed, every run starts
 from one state after a transient to plate time 2 from that seed's random
 start; the runs decorrelate within a few thousand events (chaos), so they are
@@ -25,16 +25,13 @@ several seeds the pooled comparison uses the scatter of the per-start values.
 from __future__ import annotations
 
 import argparse
-import importlib
 import time
 
 import numpy as np
 from b_half_dt import batch_b, pooled_difference  # the same errors
 
 import faultnet
-from faultnet.simulate import default_dt
-
-SIM = importlib.import_module("faultnet.simulate")
+from faultnet import default_dt
 
 #: run name -> (label, local regions on, fraction of the default dt)
 RUNS = {
@@ -78,21 +75,19 @@ def one_start(seed, runs, args):
     print(f"seed {seed}: transient to plate time {args.transient_t}: {wall:.0f} s")
 
     dt0 = default_dt(model)
-    local_from = SIM.LOCAL_REGIONS_FROM
     rows = {}
-    try:
-        for name in runs:
-            label, local, frac = RUNS[name]
-            SIM.LOCAL_REGIONS_FROM = local_from if local else float("inf")
-            tic = time.perf_counter()
-            res = faultnet.simulate(model, args.events, x0=state, dt=dt0 * frac, record_slips=False)
-            wall = time.perf_counter() - tic
-            M = res.events.M.to_numpy()
-            work = res.metadata["block_steps"] / args.events
-            fitted = {k: batch_b(M, f, args.batches) for k, f in FITS.items()}
-            rows[name] = (dt0 * frac, wall, work, fitted)
-    finally:
-        SIM.LOCAL_REGIONS_FROM = local_from
+    for name in runs:
+        label, local, frac = RUNS[name]
+        options = faultnet.RunOptions(
+            dt=dt0 * frac, local_regions_from=32 if local else float("inf")
+        )
+        tic = time.perf_counter()
+        res = faultnet.simulate(model, args.events, x0=state, options=options)
+        wall = time.perf_counter() - tic
+        M = res.events.M.to_numpy()
+        work = res.metadata["block_steps"] / args.events
+        fitted = {k: batch_b(M, f, args.batches) for k, f in FITS.items()}
+        rows[name] = (dt0 * frac, wall, work, fitted)
 
     print(f"\nperiodic {args.size}^2, alpha 1, seed {seed}, {args.events} events per run, "
           "batch-means errors")  # fmt: skip

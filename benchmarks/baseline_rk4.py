@@ -270,7 +270,7 @@ def model_arrays(model):
 
 def step_size(model, coefficient=DT_COEFFICIENT):
     """RK4 step: ``coefficient / sqrt(omega2_max)`` (faultnet's bound on the top frequency)."""
-    from faultnet.simulate import omega2_max
+    from faultnet.options import omega2_max
 
     return coefficient / math.sqrt(omega2_max(model))
 

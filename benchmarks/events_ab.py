@@ -81,26 +81,24 @@ def save(wid, path, min_blocks, count, events, transient_t):
 
 def time_events(path, repeat, local_from=None):
     """Each saved event alone; returns the row printed (a dict)."""
-    import importlib
-
     import faultnet
 
-    sim = importlib.import_module("faultnet.simulate")  # the module, not the function
-    if local_from is not None:  # a tuning knob of the simulate module
-        sim.LOCAL_REGIONS_FROM = local_from
+    options = faultnet.RunOptions()
+    if local_from is not None:
+        options = options.replace(local_regions_from=local_from)
 
     d = np.load(path)
     wid = str(d["wid"])
     model = _model(wid)
     states = [faultnet.State.from_x(x, float(w)) for x, w in zip(d["x"], d["w"], strict=True)]
-    faultnet.simulate(model, 1, x0=states[0], progress=False)  # compile or load the kernels
+    faultnet.simulate(model, 1, x0=states[0], progress=False, options=options)  # compile/load
     best = None
     for _ in range(repeat):
         loop = 0.0
         work = dict.fromkeys(("block_steps", *COUNTERS), 0)
         sizes, slips = [], []
         for st in states:
-            res = faultnet.simulate(model, 1, x0=st, progress=False, record_slips=False)
+            res = faultnet.simulate(model, 1, x0=st, progress=False, options=options)
             loop += res.metadata["wall_time_s"]
             for k in work:
                 work[k] += int(res.metadata.get(k, 0))
@@ -114,7 +112,7 @@ def time_events(path, repeat, local_from=None):
         "workload": wid,
         "code": os.path.dirname(os.path.dirname(faultnet.__file__)),
         "events": len(states),
-        "local_regions_from": sim.LOCAL_REGIONS_FROM,
+        "local_regions_from": float(options.local_regions_from),
         "loop_s": loop,
         "ns_per_block_step": 1e9 * loop / work["block_steps"],
         **work,
@@ -148,7 +146,7 @@ def main(argv=None):
     tm.add_argument(
         "--local-from",
         type=float,
-        help="simulate.LOCAL_REGIONS_FROM for this run (default: the module's, 32)",
+        help="RunOptions.local_regions_from for this run (default 32)",
     )
     args = ap.parse_args(argv)
     if args.cmd == "save":

@@ -14,6 +14,7 @@ from importlib.metadata import PackageNotFoundError, version
 
 from faultnet import dynamics, graphs, stats
 from faultnet.catalog import SimulationResult
+from faultnet.engine import Simulator, simulate, slip_event
 from faultnet.exceptions import (
     EventTooLongError,
     FaultnetError,
@@ -22,7 +23,7 @@ from faultnet.exceptions import (
     SimulationError,
 )
 from faultnet.model import CarlsonLanger, SparseGraph
-from faultnet.simulate import default_dt, simulate, slip_event
+from faultnet.options import RunOptions, default_dt
 from faultnet.state import State
 from faultnet.stats import BFit, fit_b_lsq, fit_b_mle, irregularity, magnitude_distribution
 
@@ -65,6 +66,8 @@ __all__ = [
     "NumericalInstabilityError",
     "SimulationError",
     "SimulationResult",
+    "Simulator",
+    "RunOptions",
     "build_model",
     "graph_hash",
     "read_catalog",

@@ -80,7 +80,7 @@ class SimulationResult:
         ``n_blocks`` (distinct blocks that slipped), ``S`` (total slip),
         ``M = ln S``, ``hypocenter`` (graph node that failed first) and
         ``n_steps`` (integration steps; for a free single-block slip, the steps
-        of the block's cached solo slip, see ``simulate.SOLO_FAST_PATH``).
+        of the block's cached solo slip, see ``RunOptions.solo_cache``).
     state : State
         Final state; pass it as ``x0`` to continue the run exactly.
     slips : pandas.DataFrame or None
@@ -96,7 +96,7 @@ class SimulationResult:
         actually done in this call), ``solo_events`` (events taken from a
         cached solo slip, which cost no integration), ``local_steps`` (steps
         whose crossings were handled in local regions, see
-        ``simulate.LOCAL_REGIONS_FROM``), ``local_fallbacks`` (such steps
+        ``RunOptions.local_regions_from``), ``local_fallbacks`` (such steps
         handed back to the whole-event treatment), and the parts of
         ``block_steps`` spent in partial steps to crossings and their
         polish (``partial_block_steps``) and inside local regions

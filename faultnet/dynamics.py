@@ -13,9 +13,10 @@ import numpy as np
 import pandas as pd
 from tqdm.auto import tqdm
 
+from faultnet.engine import Simulator, run_options, simulate, slip_event
+from faultnet.exceptions import InvalidParameterError
 from faultnet.graphs import chain
 from faultnet.model import CarlsonLanger
-from faultnet.simulate import simulate, slip_event
 
 __all__ = ["continuation", "linear_slip", "one_block_slip_curve", "return_map"]
 
@@ -90,7 +91,9 @@ def one_block_slip_curve(alphas, sigma, dt=None, n_events=3):
     """
     alphas = np.atleast_1d(np.asarray(alphas, dtype=np.float64))
     if alphas.ndim != 1 or alphas.size == 0:
-        raise ValueError(f"alphas must be a non-empty 1-D sequence; got shape {alphas.shape}")
+        raise InvalidParameterError(
+            f"alphas must be a non-empty 1-D sequence; got shape {alphas.shape}"
+        )
     base = CarlsonLanger(chain(1), sigma=sigma, alpha=float(alphas[0]))
     s = np.empty(alphas.size)
     duration = np.empty(alphas.size)
@@ -140,10 +143,12 @@ def return_map(model, d_values, base=0.0, dt=None):
     (0.0012, 1)
     """
     if not isinstance(model, CarlsonLanger) or model.n != 2:
-        raise ValueError(f"return_map needs a CarlsonLanger model with 2 blocks; got {model!r}")
+        raise InvalidParameterError(
+            f"return_map needs a CarlsonLanger model with 2 blocks; got {model!r}"
+        )
     d_values = np.atleast_1d(np.asarray(d_values, dtype=np.float64))
     if d_values.ndim != 1 or not np.all(np.isfinite(d_values)):
-        raise ValueError("d_values must be a 1-D sequence of finite numbers")
+        raise InvalidParameterError("d_values must be a 1-D sequence of finite numbers")
     out = np.empty((d_values.size, 3))
     for i, d in enumerate(d_values):
         state, row = slip_event(model, [base, base + d], dt=dt)
@@ -154,14 +159,27 @@ def return_map(model, d_values, base=0.0, dt=None):
     )
 
 
-def continuation(model, alphas, events_per_step, x0=None, rng=None, progress=None, **kwargs):
+def continuation(
+    model,
+    alphas,
+    events_per_step,
+    x0=None,
+    rng=None,
+    progress=None,
+    *,
+    options=None,
+    dt=None,
+    record_profiles=False,
+    **recording,
+):
     """Ramp ``alpha`` step by step, carrying the state exactly between steps.
 
     At each ``alpha`` the model ``model.with_params(alpha=alpha)`` runs
     ``events_per_step`` events continuing from the previous step's final
     state, as an uninterrupted run with a time-dependent ``alpha`` would.  The
     paper reaches the ring's traveling wave (Fig. 5) this way, raising
-    ``alpha`` gradually from 0.
+    ``alpha`` gradually from 0.  One :class:`~faultnet.Simulator` runs the
+    whole ramp: each step only swaps the model (:meth:`Simulator.set_model`).
 
     Parameters
     ----------
@@ -176,9 +194,12 @@ def continuation(model, alphas, events_per_step, x0=None, rng=None, progress=Non
     progress : bool or None
         Progress bar over the steps; None shows it for 20 steps or more (on a
         terminal).
-    **kwargs :
-        Passed to every :func:`faultnet.simulate` call (e.g. ``dt``,
-        ``record_profiles``).
+    options, dt :
+        Run options (and the ``dt`` shortcut), as in :func:`faultnet.simulate`.
+    record_profiles : bool
+        Keep the displacement profiles of every step's events.
+    **recording :
+        ``record_slips``, ``trace_nodes``: passed to the :class:`~faultnet.Simulator`.
 
     Returns
     -------
@@ -204,20 +225,22 @@ def continuation(model, alphas, events_per_step, x0=None, rng=None, progress=Non
     """
     alphas = np.atleast_1d(np.asarray(alphas, dtype=np.float64))
     if alphas.ndim != 1 or alphas.size == 0:
-        raise ValueError(f"alphas must be a non-empty 1-D sequence; got shape {alphas.shape}")
+        raise InvalidParameterError(
+            f"alphas must be a non-empty 1-D sequence; got shape {alphas.shape}"
+        )
     if progress is None:
         disable = None if alphas.size >= 20 else True
     else:
         disable = not progress
     rows = []
-    state = x0
-    result = seed = None
+    sim = result = None
     for a in tqdm(alphas, desc="alpha", unit="step", disable=disable, leave=False):
         step_model = model.with_params(alpha=float(a))
-        result = simulate(step_model, events_per_step, x0=state, rng=rng, progress=False, **kwargs)
-        if seed is None:
-            seed = result.metadata.get("seed_entropy")
-        state = result.state
+        if sim is None:
+            sim = Simulator(step_model, x0, rng, run_options(options, dt), **recording)
+        else:
+            sim.set_model(step_model)
+        result = sim.advance(events_per_step, progress=False, record_profiles=record_profiles)
         ev = result.events
         rows.append(
             {
@@ -229,5 +252,5 @@ def continuation(model, alphas, events_per_step, x0=None, rng=None, progress=Non
             }
         )
     steps = pd.DataFrame(rows)
-    steps.attrs["seed_entropy"] = seed
+    steps.attrs["seed_entropy"] = result.metadata.get("seed_entropy")
     return result, steps

@@ -403,7 +403,7 @@ def simulate_to_parquet(
     RunReport
     """
     from faultnet.model import CarlsonLanger
-    from faultnet.simulate import default_dt
+    from faultnet.options import default_dt
 
     if not isinstance(model, CarlsonLanger):
         raise InvalidParameterError(f"model must be a CarlsonLanger; got {type(model).__name__}")
@@ -530,7 +530,7 @@ def _run(
     desc,
     resume_point,
 ):
-    from faultnet.simulate import simulate
+    from faultnet.engine import simulate
 
     state, rows, n_parts, counters = resume_point or (None, 0, 0, None)
     resumed_from = rows

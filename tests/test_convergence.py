@@ -5,7 +5,7 @@ import pytest
 from reference import reference_events
 
 import faultnet
-from faultnet.simulate import default_dt
+from faultnet import default_dt
 
 
 def slip_errors(model, x0, factors, method):

@@ -5,7 +5,15 @@ import importlib
 
 import pytest
 
-MODULES = ["faultnet", "faultnet.model", "faultnet.simulate", "faultnet.stats", "faultnet.dynamics"]
+MODULES = [
+    "faultnet",
+    "faultnet.model",
+    "faultnet.engine",
+    "faultnet.options",
+    "faultnet._validate",
+    "faultnet.stats",
+    "faultnet.dynamics",
+]
 
 
 @pytest.mark.parametrize("name", MODULES)

@@ -31,7 +31,7 @@ from faultnet._kernels.landing import land, septic_coeffs
 from faultnet._kernels.local import _collect, _first_crossing, _listed
 from faultnet._kernels.stepping import activate, commit, touch
 from faultnet._kernels.tableau import N_WORK_DOPRI
-from faultnet.simulate import default_dt
+from faultnet import default_dt
 
 
 @nb.njit(cache=False)

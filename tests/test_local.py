@@ -8,30 +8,26 @@ the local regions must change the result by much less than the integrator's
 own error, and must save work.
 """
 
-import importlib
-
 import numpy as np
 import pytest
 
 import faultnet
 
-SIM = importlib.import_module("faultnet.simulate")
+
+def _run(model, state, n, local, dt=None, **kw):
+    options = faultnet.RunOptions(local_regions_from=8 if local else float("inf"))
+    return faultnet.simulate(model, n, x0=state, dt=dt, progress=False, options=options, **kw)
 
 
-def _run(monkeypatch, model, state, n, local, dt=None, **kw):
-    monkeypatch.setattr(SIM, "LOCAL_REGIONS_FROM", 8 if local else float("inf"))
-    return faultnet.simulate(model, n, x0=state, dt=dt, progress=False, **kw)
-
-
-def _compare_event(monkeypatch, model, state):
+def _compare_event(model, state):
     """Local and whole-event treatment at dt, and the converged reference (dt / 16).
 
     Returns (local, whole, local error, whole error): errors are the largest
     displacement difference from the reference after the event.
     """
-    loc = _run(monkeypatch, model, state, 1, True)
-    glob = _run(monkeypatch, model, state, 1, False)
-    ref = _run(monkeypatch, model, state, 1, False, dt=glob.dt / 16)
+    loc = _run(model, state, 1, True)
+    glob = _run(model, state, 1, False)
+    ref = _run(model, state, 1, False, dt=glob.dt / 16)
     err_loc = np.abs(loc.state.x - ref.state.x).max()
     err_glob = np.abs(glob.state.x - ref.state.x).max()
     s_ref = ref.events.S.iloc[0]
@@ -55,14 +51,14 @@ def square40():
     return model, res.state
 
 
-def test_whole_lattice_event(monkeypatch):
+def test_whole_lattice_event():
     """Nearly uniform start: every block of a 24 x 24 lattice slips in one event."""
     model = faultnet.CarlsonLanger(
         faultnet.graphs.square_lattice(24, 24, periodic=True), k=16, sigma=0.01, alpha=1.0
     )
     x = np.random.default_rng(5).uniform(0.0, 3e-5, model.n)
     state = faultnet.State.from_x(x)
-    loc, glob, err_loc, err_glob = _compare_event(monkeypatch, model, state)
+    loc, glob, err_loc, err_glob = _compare_event(model, state)
     assert int(glob.events.n_blocks.iloc[0]) == model.n
     assert loc.metadata["local_steps"] > 20
     assert glob.metadata["local_steps"] == 0
@@ -70,7 +66,7 @@ def test_whole_lattice_event(monkeypatch):
     assert err_loc < 1.5 * err_glob, (err_loc, err_glob)
 
 
-def test_large_correlated_events(monkeypatch, square40):
+def test_large_correlated_events(square40):
     """The first three events of >= 100 blocks after the transient, one by one.
 
     Measured on the first eight: the local error is 1.1 to 2.4 times the
@@ -81,14 +77,14 @@ def test_large_correlated_events(monkeypatch, square40):
     (displacements 1.5e-7), so S is held to the whole-event treatment's error.
     """
     model, state = square40
-    monkeypatch.setattr(SIM, "LOCAL_REGIONS_FROM", float("inf"))
-    run = faultnet.simulate(model, 3000, x0=state, progress=False, record_slips=False)
+    whole = faultnet.RunOptions(local_regions_from=float("inf"))
+    run = faultnet.simulate(model, 3000, x0=state, progress=False, options=whole)
     big = np.flatnonzero(run.events.n_blocks.to_numpy() >= 100)[:3]
     assert big.size == 3
     saved = 0
     for e in big:
-        before = _run(monkeypatch, model, state, int(e), False, record_slips=False).state
-        loc, glob, err_loc, err_glob = _compare_event(monkeypatch, model, before)
+        before = _run(model, state, int(e), False, record_slips=False).state
+        loc, glob, err_loc, err_glob = _compare_event(model, before)
         assert loc.events.n_blocks.iloc[0] == glob.events.n_blocks.iloc[0]
         assert loc.events.hypocenter.iloc[0] == glob.events.hypocenter.iloc[0]
         assert err_loc < 3.0 * err_glob + 1e-9, (e, err_loc, err_glob)
@@ -97,7 +93,7 @@ def test_large_correlated_events(monkeypatch, square40):
     assert saved > 0
 
 
-def test_same_statistics(monkeypatch, square40):
+def test_same_statistics(square40):
     """20,000 events each way: the b-values agree within their scatter.
 
     The MLE error of one run understates how b scatters between runs from
@@ -109,17 +105,17 @@ def test_same_statistics(monkeypatch, square40):
     model, state = square40
     b = []
     for local in (True, False):
-        res = _run(monkeypatch, model, state, 20000, local, record_slips=False)
+        res = _run(model, state, 20000, local, record_slips=False)
         assert (res.metadata["local_steps"] > 0) == local
         b.append(faultnet.stats.fit_b_mle(res.events.M, m_min=-6.0))
     assert abs(b[0].b - b[1].b) < 3.0 * 2.0 * np.hypot(b[0].b_err, b[1].b_err), b
 
 
-def test_rk4_never_uses_local_regions(monkeypatch):
+def test_rk4_never_uses_local_regions():
     model = faultnet.CarlsonLanger(
         faultnet.graphs.square_lattice(16, 16, periodic=True), k=16, sigma=0.01, alpha=1.0
     )
     x = np.random.default_rng(5).uniform(0.0, 3e-5, model.n)
-    res = _run(monkeypatch, model, faultnet.State.from_x(x), 1, True, method="rk4")
+    res = _run(model, faultnet.State.from_x(x), 1, True, method="rk4")
     assert res.metadata["local_steps"] == 0
     assert int(res.events.n_blocks.iloc[0]) == model.n

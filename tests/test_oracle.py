@@ -8,7 +8,7 @@ from hypothesis import strategies as st
 from reference import reference_events
 
 import faultnet
-from faultnet.simulate import default_dt
+from faultnet import default_dt
 
 
 def random_model(seed, n=6, p_edge=0.5):

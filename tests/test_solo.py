@@ -1,22 +1,16 @@
 """The free single-block path (cached solo slips) against full integration."""
 
-import importlib
-
 import numpy as np
 import pytest
 
 import faultnet
 
-# the module, not the function that faultnet re-exports under the same name
-SIM = importlib.import_module("faultnet.simulate")
 
-
-def run(model, n, x0, fast, monkeypatch, **kw):
-    monkeypatch.setattr(SIM, "SOLO_FAST_PATH", fast)
+def run(model, n, x0, fast, **kw):
     # the exact whole-event treatment of large events: local regions adapt their
     # step to the crossings, so round-off differences could move their step grid
-    monkeypatch.setattr(SIM, "LOCAL_REGIONS_FROM", float("inf"))
-    return faultnet.simulate(model, n, x0=x0, progress=False, **kw)
+    options = faultnet.RunOptions(solo_cache=fast, local_regions_from=float("inf"))
+    return faultnet.simulate(model, n, x0=x0, progress=False, options=options, **kw)
 
 
 def heterogeneous_ring(n=60, seed=3):
@@ -38,11 +32,10 @@ def heterogeneous_ring(n=60, seed=3):
     ],
     ids=["ring", "open-square", "heterogeneous"],
 )
-def test_fast_path_matches_full_integration(model, monkeypatch):
-    monkeypatch.setattr(SIM, "LOCAL_REGIONS_FROM", float("inf"))
+def test_fast_path_matches_full_integration(model):
     warm = faultnet.simulate(model, 3000, rng=5, progress=False)
-    slow = run(model, 60, warm, False, monkeypatch, record_slips=True)
-    fast = run(model, 60, warm, True, monkeypatch, record_slips=True)
+    slow = run(model, 60, warm, False, record_slips=True)
+    fast = run(model, 60, warm, True, record_slips=True)
     assert slow.metadata["solo_events"] == 0
     n_solo = fast.metadata["solo_events"]
     assert n_solo > 10, n_solo

@@ -1,33 +1,36 @@
 """Numba kernels of faultnet (imports only numpy, numba and math).
 
-The public Python layer (:mod:`faultnet.simulate`) validates input, allocates
-every array, calls these kernels and turns their status codes into exceptions.
+The Python layer (:mod:`faultnet.engine`) validates input, allocates every
+array, calls these kernels and turns their status codes into exceptions.
+
+The kernels are imported on first use of a name below, so that importing
+:mod:`faultnet._kernels.layout` (the named layouts of the packed arrays) does
+not import numba.
 """
 
-from faultnet._kernels.context import LOC_SIZE
-from faultnet._kernels.crossing import (
-    STATUS_EVENT_TOO_LONG,
-    STATUS_NONFINITE,
-    STATUS_OK,
-    STATUS_RUNAWAY,
-    STATUS_SLIPS_FULL,
-)
-from faultnet._kernels.dopri import N_WORK_DOPRI
-from faultnet._kernels.events import run_events_dopri5, run_events_rk4
-from faultnet._kernels.integrate import N_IWORK
-from faultnet._kernels.tree import build_keys_and_tree, empty_tree
+import importlib
 
-__all__ = [
-    "LOC_SIZE",
-    "N_IWORK",
-    "N_WORK_DOPRI",
-    "STATUS_EVENT_TOO_LONG",
-    "STATUS_NONFINITE",
-    "STATUS_OK",
-    "STATUS_RUNAWAY",
-    "STATUS_SLIPS_FULL",
-    "build_keys_and_tree",
-    "empty_tree",
-    "run_events_dopri5",
-    "run_events_rk4",
-]
+_NAMES = {
+    "LOC_SIZE": "context",
+    "N_IWORK": "integrate",
+    "N_WORK_DOPRI": "dopri",
+    "STATUS_EVENT_TOO_LONG": "crossing",
+    "STATUS_NONFINITE": "crossing",
+    "STATUS_OK": "crossing",
+    "STATUS_RUNAWAY": "crossing",
+    "STATUS_SLIPS_FULL": "crossing",
+    "build_keys_and_tree": "tree",
+    "empty_tree": "tree",
+    "run_events_dopri5": "events",
+    "run_events_rk4": "events",
+}
+
+__all__ = sorted(_NAMES)
+
+
+def __getattr__(name):
+    if name in _NAMES:
+        value = getattr(importlib.import_module(f"{__name__}.{_NAMES[name]}"), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -119,7 +119,11 @@ def test_slip_event_returns_state_and_row():
         ({"x0": np.zeros(3)}, r"x0.*\(4,\).*\(3,\)"),
         ({"x0": [0.0, np.nan, 0.0, np.inf]}, r"x0.*non-finite.*\[1, 3\]"),
         ({"trace_nodes": [99]}, "trace_nodes.*99"),
-        ({"max_event_duration": 0}, "max_event_duration"),
+        ({"options": {"max_event_duration": 0}}, "max_event_duration"),
+        ({"options": {"dt": 1e-12}}, "dt=1e-12 is too small"),
+        ({"options": {"smoothing": 1}}, r"unknown run option.*smoothing"),
+        ({"options": "fast"}, "options must be a RunOptions"),
+        ({"method": "euler"}, r"method must be one of \['dopri5', 'rk4'\]"),
     ],
 )
 def test_bad_run_input(kwargs, match):
@@ -138,9 +142,9 @@ def test_bad_model_type():
 def test_runaway_and_too_long_events_raise_clear_errors():
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(10), k=16, sigma=0.01, alpha=2.0)
     with pytest.raises(NumericalInstabilityError, match="reduce dt"):
-        faultnet.simulate(model, 100, rng=1, progress=False, max_velocity=1e-3)
+        faultnet.simulate(model, 100, rng=1, progress=False, options={"max_velocity": 1e-3})
     with pytest.raises(EventTooLongError, match="max_event_duration"):
-        faultnet.simulate(model, 100, rng=1, progress=False, max_event_duration=0.05)
+        faultnet.simulate(model, 100, rng=1, progress=False, options={"max_event_duration": 0.05})
 
 
 def test_slip_recording_is_bounded():
@@ -181,3 +185,45 @@ def test_scheme_is_a_compile_time_literal():
     rk4 = faultnet.simulate(model, 20, rng=3, method="rk4").events
     assert (dp5.hypocenter == rk4.hypocenter).all()
     np.testing.assert_allclose(dp5.S, rk4.S, rtol=2e-6)
+
+
+def _ring(alpha=1.0, n=40):
+    return faultnet.CarlsonLanger(faultnet.graphs.ring(n), k=16, sigma=0.01, alpha=alpha)
+
+
+def test_simulator_chunks_equal_one_run():
+    model = _ring()
+    whole = faultnet.simulate(model, 900, rng=2, progress=False)
+    sim = faultnet.Simulator(model, rng=2)
+    parts = [sim.advance(n, progress=False) for n in (1, 299, 600)]
+    chunked = pd.concat([p.events for p in parts], ignore_index=True)
+    pd.testing.assert_frame_equal(chunked, whole.events)
+    assert np.array_equal(sim.state.z, whole.state.z) and sim.state.n_events == 900
+    assert parts[-1].metadata["first_event"] == 300
+    assert parts[-1].metadata["seed_entropy"] == 2  # every chunk records the seed
+
+
+def test_set_model_equals_a_fresh_run_from_the_state():
+    model = _ring(alpha=0.5)
+    sim = faultnet.Simulator(model, rng=4)
+    sim.advance(400, progress=False)
+    state = sim.state
+    new = model.with_params(alpha=2.0)
+    sim.set_model(new)
+    kept = sim.advance(300, progress=False)
+    fresh = faultnet.simulate(new, 300, x0=state, progress=False)
+    pd.testing.assert_frame_equal(kept.events, fresh.events)
+    assert kept.dt == fresh.dt != faultnet.default_dt(model)  # the step follows alpha
+    with pytest.raises(InvalidParameterError, match="same blocks"):
+        sim.set_model(_ring(n=41))
+
+
+def test_options_are_recorded_and_change_results():
+    model = _ring()
+    exact = faultnet.RunOptions(solo_cache=False, local_regions_from=float("inf"))
+    res = faultnet.simulate(model, 200, rng=1, progress=False, options=exact)
+    assert res.metadata["options"] == exact.to_dict()
+    assert res.metadata["options"]["local_regions_from"] == "inf"
+    assert faultnet.RunOptions.from_dict(res.metadata["options"]) == exact
+    assert res.metadata["solo_events"] == 0
+    assert faultnet.simulate(model, 200, rng=1, progress=False).metadata["solo_events"] > 0

@@ -1,0 +1,64 @@
+"""Named layouts of the small packed arrays the entry kernels share with Python.
+
+The Python layer reads and writes these arrays only through the names here.
+
+``ctrl`` (float64[CTRL_SIZE]): the run's numerical options.
+``scal`` (float64[SCAL_SIZE]): the frame offset and the plate position relative to it.
+``cnt`` (int64[CNT_SIZE]): counters of the current call (see ``events`` for their meaning).
+``out`` (float64[OUT_SIZE]): the last event's catalog row, as the kernel left it.
+"""
+
+__all__ = [
+    "CNT_BLOCK_STEPS",
+    "CNT_EVENTS",
+    "CNT_LANDED_JOINS",
+    "CNT_LOCAL_FALLBACKS",
+    "CNT_LOCAL_STEPS",
+    "CNT_PARTIAL_BLOCK_STEPS",
+    "CNT_REGION_BLOCK_STEPS",
+    "CNT_SIZE",
+    "CNT_SLIP_ROWS",
+    "CNT_SOLO_EVENTS",
+    "CNT_STEPS",
+    "CNT_TRACE_FULL",
+    "CNT_TRACE_ROWS",
+    "CTRL_DT",
+    "CTRL_LOCAL_FROM",
+    "CTRL_MAX_DURATION",
+    "CTRL_MAX_VELOCITY",
+    "CTRL_SIZE",
+    "CTRL_SOLO_CACHE",
+    "OUT_HYPOCENTER",
+    "OUT_SIZE",
+    "SCAL_OFFSET",
+    "SCAL_SIZE",
+    "SCAL_W",
+]
+
+CTRL_DT = 0  #: integration step inside events
+CTRL_MAX_DURATION = 1  #: longest allowed event (time units)
+CTRL_MAX_VELOCITY = 2  #: fastest allowed block velocity
+CTRL_SOLO_CACHE = 3  #: 1.0: reuse cached solo slips; 0.0: integrate every event
+CTRL_LOCAL_FROM = 4  #: slipping blocks from which crossings are handled in local regions
+CTRL_SIZE = 5
+
+SCAL_OFFSET = 0  #: integer-valued frame offset
+SCAL_W = 1  #: plate position minus the offset
+SCAL_SIZE = 2
+
+CNT_EVENTS = 0  #: events completed in this call
+CNT_SLIP_ROWS = 1  #: rows used in the per-block slip buffer
+CNT_TRACE_ROWS = 2  #: rows used in the trajectory buffer
+CNT_STEPS = 3  #: integration steps (full and partial)
+CNT_BLOCK_STEPS = 4  #: block-steps (slipping blocks x steps)
+CNT_TRACE_FULL = 5  #: 1 once the trajectory buffer filled up
+CNT_PARTIAL_BLOCK_STEPS = 6  #: block-steps of partial steps to crossings
+CNT_SOLO_EVENTS = 8  #: events taken from a cached solo slip
+CNT_LOCAL_STEPS = 9  #: steps whose crossings were handled in local regions
+CNT_LOCAL_FALLBACKS = 10  #: local steps handed back to the whole-event treatment
+CNT_REGION_BLOCK_STEPS = 12  #: block-steps inside local regions
+CNT_LANDED_JOINS = 13  #: joins landed on a step's interpolant
+CNT_SIZE = 16
+
+OUT_HYPOCENTER = 4  #: block index of the last event's hypocentre
+OUT_SIZE = 6

@@ -1,0 +1,389 @@
+"""The engine: one :class:`Simulator` owns a running simulation.
+
+The plate is never time-stepped: between events it jumps analytically to the
+next failure (a tournament tree over per-block failure keys).  Inside an event
+only the slipping blocks are integrated, with Dormand-Prince 5(4) (default) or
+classical RK4 at a fixed step ``dt``; stick (v -> 0) and join (F -> 1) instants
+are located inside a step (on the DP5 dense output, or a cubic Hermite
+interpolant for RK4) and the step is redone up to that instant, so the scheme
+keeps its order (see ``tests/test_convergence.py``).
+
+A :class:`Simulator` allocates the kernel's arrays once (topology, state, work
+space); each :meth:`Simulator.advance` only allocates that chunk's catalog.
+Continuing from ``sim.state`` in a new Simulator gives the same events bit for
+bit, which is what makes checkpointed runs resumable.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+from tqdm.auto import tqdm
+
+from faultnet._kernels.layout import CNT_BLOCK_STEPS, CNT_EVENTS, CNT_STEPS, SCAL_OFFSET, SCAL_W
+from faultnet._validate import check_int
+from faultnet.catalog import SimulationResult, events_frame
+from faultnet.exceptions import InvalidParameterError
+from faultnet.kernel_arrays import KernelArrays, initial_state, trace_indices
+from faultnet.model import CarlsonLanger
+from faultnet.options import RunOptions
+from faultnet.results import raise_status, run_metadata, wrap_result
+from faultnet.state import State
+
+__all__ = ["COMPILING_LABEL", "Simulator", "run_options", "simulate", "slip_event"]
+
+#: the progress bar's label while the first run compiles the kernels
+COMPILING_LABEL = "faultnet: compiling the kernels (first run only, ~30 s)"
+#: ``record_profiles`` keeps at most this many values (n_events x n_blocks)
+MAX_PROFILE_VALUES = 20_000_000
+
+
+def _kernels():
+    """The Numba kernels, imported on the first run (numba's import takes a quarter second)."""
+    from faultnet import _kernels
+
+    return _kernels
+
+
+def _helper():
+    """:mod:`faultnet._compile_helper`, imported by the first run."""
+    from faultnet import _compile_helper
+
+    return _compile_helper
+
+
+class Simulator:
+    """A running simulation of a Carlson-Langer model.
+
+    Parameters
+    ----------
+    model : CarlsonLanger
+    x0 : array_like, State, SimulationResult or None
+        Initial displacements (plate at u = 0), or a ``State`` / previous
+        result to continue from exactly (the plate position and the event
+        numbering carry over).  None draws ``x0`` uniformly from [0, 0.01)
+        with ``rng``.
+    rng : None, int, SeedSequence or Generator
+        Randomness for the initial state (SPEC 7); its SeedSequence is
+        recorded in every chunk's metadata.
+    options : RunOptions, dict or None
+        The numerical choices (scheme, step, guards); see :class:`RunOptions`.
+    record_slips : bool
+        Keep per-block slips of every event (``result.slips``), at most
+        ``max_slip_rows`` rows per :meth:`advance`.
+    trace_nodes : sequence of graph nodes, optional
+        Record ``x(t)``, ``v(t)`` of these blocks at every integration step
+        inside events, at most ``max_trace_rows`` steps per :meth:`advance`.
+
+    Examples
+    --------
+    >>> import faultnet
+    >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(20), k=16, sigma=0.01, alpha=1.0)
+    >>> sim = faultnet.Simulator(ring, rng=3)
+    >>> first = sim.advance(100, progress=False)
+    >>> second = sim.advance(50, progress=False)
+    >>> sim.state.n_events, int(second.events["event"].iloc[0])
+    (150, 100)
+    >>> whole = faultnet.simulate(ring, 150, rng=3, progress=False)
+    >>> bool((whole.events["S"].to_numpy()[100:] == second.events["S"].to_numpy()).all())
+    True
+    """
+
+    def __init__(
+        self,
+        model,
+        x0=None,
+        rng=None,
+        options=None,
+        *,
+        record_slips=False,
+        trace_nodes=None,
+        max_slip_rows=50_000_000,
+        max_trace_rows=1_000_000,
+    ):
+        if not isinstance(model, CarlsonLanger):
+            raise InvalidParameterError(
+                f"model must be a CarlsonLanger; got {type(model).__name__}"
+            )
+        self._options = RunOptions.coerce(options)
+        self._dt = self._options.step(model)
+        state, self._seed = initial_state(model, x0, rng)
+        self._initial = "random U[0, 0.01)" if x0 is None else "given"
+        self._max_slip_rows = check_int("max_slip_rows", max_slip_rows, minimum=0)
+        trace_idx = trace_indices(model, trace_nodes)
+        rows = check_int("max_trace_rows", max_trace_rows, minimum=0)
+        self._model = model
+        self._arrays = KernelArrays(
+            model, state, self._options, self._dt, record_slips, trace_idx, rows
+        )
+        self._checked_cache = False
+
+    # -- what the simulation is --------------------------------------------------------------
+
+    @property
+    def model(self) -> CarlsonLanger:
+        """The model being run (see :meth:`set_model`)."""
+        return self._model
+
+    @property
+    def options(self) -> RunOptions:
+        """The run options (fixed for the Simulator's life)."""
+        return self._options
+
+    @property
+    def dt(self) -> float:
+        """The integration step of the current model."""
+        return self._dt
+
+    @property
+    def seed(self):
+        """The SeedSequence that drew the initial state (None if ``x0`` was given)."""
+        return self._seed
+
+    @property
+    def state(self):
+        """The exact state between events (a copy): pass it as ``x0`` to continue."""
+        return self._arrays.state()
+
+    def set_model(self, model):
+        """Continue with another model on the same blocks (e.g. a new alpha).
+
+        The topology, the state and every work array are kept; only the
+        per-block parameters, the solo-slip cache and the failure keys are
+        renewed, and the step is re-derived when ``options.dt`` is None.  The
+        events that follow equal a fresh run of ``model`` from
+        :attr:`state`, bit for bit.
+
+        >>> import faultnet
+        >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(10), k=16, sigma=0.01)
+        >>> sim = faultnet.Simulator(ring, rng=0)
+        >>> _ = sim.advance(20, progress=False)
+        >>> sim.set_model(ring.with_params(alpha=2.0))
+        >>> sim.model.alpha
+        2.0
+        """
+        if not isinstance(model, CarlsonLanger):
+            raise InvalidParameterError(
+                f"model must be a CarlsonLanger; got {type(model).__name__}"
+            )
+        if model.n != self._model.n or list(model.nodes) != list(self._model.nodes):
+            raise InvalidParameterError(
+                f"set_model needs a model on the same blocks ({self._model.n} blocks in the "
+                f"same node order); got {model.n} blocks. Start a new Simulator from "
+                "sim.state for another graph"
+            )
+        dt = self._options.step(model)
+        self._arrays.set_parameters(model, dt)
+        self._model, self._dt = model, dt
+
+    # -- running -----------------------------------------------------------------------------
+
+    def advance(self, n_events, *, progress=None, record_profiles=False) -> SimulationResult:
+        """Run the next ``n_events`` events and return their catalog.
+
+        Parameters
+        ----------
+        n_events : int
+            Number of events (> 0).
+        progress : bool or None
+            Show a progress bar (None: only on a terminal).
+        record_profiles : bool
+            Keep the displacement profile after every event (small graphs
+            only: ``n_events * n_blocks`` is limited to 2e7).
+
+        Returns
+        -------
+        SimulationResult
+            The chunk's events; ``result.state`` equals :attr:`state`.
+        """
+        n_events = check_int("n_events", n_events)
+        n = self._model.n
+        if record_profiles and n_events * n > MAX_PROFILE_VALUES:
+            raise InvalidParameterError(
+                f"record_profiles would store {n_events} x {n} values (limit "
+                f"{MAX_PROFILE_VALUES:.0e}); run fewer events or record slips instead"
+            )
+        arr = self._arrays
+        arr.start_chunk(n_events if record_profiles else 0)
+        ev0 = arr.n_events
+        cat_f = np.zeros((n_events, 3), dtype=np.float64)
+        cat_i = np.zeros((n_events, 3), dtype=np.int64)
+        wall, steps, block_steps = self._loop(n_events, ev0, cat_f, cat_i, progress)
+        arr.take_slips(self._max_slip_rows)
+        arr.n_events = ev0 + n_events
+        md = run_metadata(self._model, self._options, self._dt, self._seed)
+        md.update(
+            first_event=ev0,
+            n_events=n_events,
+            initial_state=self._initial,
+            wall_time_s=wall,
+            n_steps=steps,
+            block_steps=block_steps,
+        )
+        events = events_frame(ev0, cat_f, cat_i, self._model.nodes)
+        return wrap_result(self._model, arr, self.state, self._dt, events, md, record_profiles)
+
+    def _loop(self, n_events, ev0, cat_f, cat_i, progress):
+        """Call the entry kernel in chunks sized to ~0.1-0.5 s; return wall time and work."""
+        arr = self._arrays
+        compiling = False
+        if not self._checked_cache:  # reads the cache index: outside the timed loop
+            compiling = _helper().cache_is_cold(arr.kernel)
+            self._checked_cache = True
+        K = _kernels()
+        done = steps = block_steps = 0
+        chunk = 256
+        t0 = time.perf_counter()
+        with tqdm(
+            total=n_events,
+            unit="ev",
+            disable=(None if progress is None else not progress),
+            leave=False,
+            desc=COMPILING_LABEL if compiling else "faultnet",
+        ) as bar:
+            while done < n_events:
+                n_req = min(chunk, n_events - done)
+                tic = time.perf_counter()
+                status = arr.call(n_req, ev0 + done, cat_f[done:], cat_i[done:], done)
+                _helper().stop()  # compiled (or loaded) by now
+                if compiling:  # the bar's clock and rate count the simulation only
+                    bar.unpause()
+                    bar.set_description_str("faultnet")
+                    compiling = False
+                got = int(arr.cnt[CNT_EVENTS])
+                done += got
+                steps += int(arr.cnt[CNT_STEPS])
+                block_steps += int(arr.cnt[CNT_BLOCK_STEPS])
+                arr.cnt[CNT_STEPS] = arr.cnt[CNT_BLOCK_STEPS] = 0
+                if status == K.STATUS_SLIPS_FULL:
+                    arr.take_slips(self._max_slip_rows)
+                elif status != K.STATUS_OK:
+                    raise_status(K, status, arr, self._model, ev0 + done, self._dt)
+                bar.update(got)
+                bar.set_postfix(t=f"{arr.scal[SCAL_OFFSET] + arr.scal[SCAL_W]:.4g}", refresh=False)
+                elapsed = time.perf_counter() - tic
+                if elapsed < 0.1:
+                    chunk = min(chunk * 2, 1 << 20)
+                elif elapsed > 0.5:
+                    chunk = max(chunk // 2, 1)
+        return time.perf_counter() - t0, steps, block_steps
+
+
+def run_options(options=None, dt=None, method=None) -> RunOptions:
+    """``options`` with the ``dt`` and ``method`` shortcuts applied (None: unchanged)."""
+    opts = RunOptions.coerce(options)
+    changes = {k: v for k, v in (("dt", dt), ("method", method)) if v is not None}
+    return opts.replace(**changes) if changes else opts
+
+
+def simulate(
+    model,
+    n_events,
+    x0=None,
+    rng=None,
+    dt=None,
+    progress=None,
+    *,
+    options=None,
+    method=None,
+    record_slips=False,
+    record_profiles=False,
+    trace_nodes=None,
+    max_trace_rows=1_000_000,
+    max_slip_rows=50_000_000,
+) -> SimulationResult:
+    """Run ``n_events`` slip events of a Carlson-Langer model.
+
+    A one-chunk :class:`Simulator`: ``Simulator(model, x0, rng, options).advance(n_events)``.
+
+    Parameters
+    ----------
+    model : CarlsonLanger
+    n_events : int
+        Number of events (> 0).
+    x0 : array_like, State, SimulationResult or None
+        Initial displacements (plate at u = 0), or a ``State`` / previous
+        result to continue from exactly (the plate position and the event
+        numbering carry over; the model may differ, e.g. a new alpha).  None
+        draws ``x0`` uniformly from [0, 0.01) with ``rng``.
+    rng : None, int, SeedSequence or Generator
+        Randomness for the initial state (SPEC 7); its SeedSequence entropy is
+        recorded in ``metadata``.
+    dt : float, optional
+        Integration step inside events (shortcut for ``options.dt``); default
+        :func:`default_dt`.
+    progress : bool or None
+        Show a progress bar (None: only on a terminal).
+    options : RunOptions, dict or None
+        Every numerical choice of the run (scheme, step, solo-slip cache,
+        local regions, guards); recorded in ``metadata["options"]``.
+    method : {"dopri5", "rk4"}, optional
+        Shortcut for ``options.method``.
+    record_slips : bool
+        Keep per-block slips of every event (``result.slips``), at most
+        ``max_slip_rows`` rows (then recording stops with a warning and
+        ``slips.attrs["truncated"]`` is True; the catalog stays complete).
+    record_profiles : bool
+        Keep the displacement profile after every event (small graphs only:
+        ``n_events * n_blocks`` is limited to 2e7).
+    trace_nodes : sequence of graph nodes, optional
+        Record ``x(t)``, ``v(t)`` of these blocks at every integration step
+        inside events (``result.traces``), at most ``max_trace_rows`` steps.
+
+    Returns
+    -------
+    SimulationResult
+
+    Examples
+    --------
+    >>> import faultnet
+    >>> one = faultnet.CarlsonLanger(faultnet.graphs.chain(1), sigma=0.01, alpha=2.0)
+    >>> res = faultnet.simulate(one, n_events=3, x0=[0.0], progress=False)
+    >>> [round(s, 3) for s in res.events["S"]]
+    [1.275, 1.275, 1.275]
+    >>> more = faultnet.simulate(one, n_events=2, x0=res.state, progress=False)
+    >>> more.events["event"].tolist()
+    [3, 4]
+    """
+    n_events = check_int("n_events", n_events)
+    sim = Simulator(
+        model,
+        x0,
+        rng,
+        run_options(options, dt, method),
+        record_slips=record_slips,
+        trace_nodes=trace_nodes,
+        max_slip_rows=max_slip_rows,
+        max_trace_rows=max_trace_rows,
+    )
+    return sim.advance(n_events, progress=progress, record_profiles=record_profiles)
+
+
+def slip_event(model, x, u=0.0, dt=None, *, options=None, method=None):
+    """Run exactly one slip event from displacements ``x`` (or a ``State``).
+
+    The plate is loaded until the first block fails, the event runs to its
+    end, and the state after it is returned with the event's catalog row.
+    This is the building block of return maps (paper, Figs. 2c and 4c).
+
+    Returns
+    -------
+    state : State
+    row : pandas.Series
+        The event's row of ``events`` (t, duration, n_blocks, S, M, hypocenter).
+
+    Examples
+    --------
+    >>> import faultnet
+    >>> two = faultnet.CarlsonLanger(faultnet.graphs.chain(2), k=16, sigma=0.01, alpha=2.0)
+    >>> state, row = faultnet.slip_event(two, [0.0, 0.01])
+    >>> int(row["n_blocks"]), int(row["hypocenter"])
+    (1, 0)
+    """
+    if not isinstance(x, State):
+        x = np.asarray(x, dtype=np.float64)
+        if x.shape == (model.n,) and np.all(np.isfinite(x)):
+            x = State.from_x(x, u)
+    res = simulate(model, 1, x0=x, dt=dt, progress=False, options=options, method=method)
+    return res.state, res.events.iloc[0]

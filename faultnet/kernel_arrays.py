@@ -1,0 +1,183 @@
+"""The arrays a run hands to the entry kernel, allocated once per :class:`~faultnet.Simulator`.
+
+:class:`KernelArrays` holds the topology (CSR), the per-block parameters, the
+state (``z``, ``scal``, failure keys and their tree), the work space and the
+recording buffers, and calls the entry kernel of the run's scheme.  The small
+packed arrays (``ctrl``, ``scal``, ``cnt``, ``out``) are read and written
+through the names of :mod:`faultnet._kernels.layout`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from faultnet._kernels.layout import (
+    CNT_EVENTS,
+    CNT_SIZE,
+    CNT_SLIP_ROWS,
+    CNT_TRACE_FULL,
+    CNT_TRACE_ROWS,
+    CTRL_DT,
+    CTRL_LOCAL_FROM,
+    CTRL_MAX_DURATION,
+    CTRL_MAX_VELOCITY,
+    CTRL_SIZE,
+    CTRL_SOLO_CACHE,
+    OUT_SIZE,
+    SCAL_OFFSET,
+    SCAL_SIZE,
+    SCAL_W,
+)
+from faultnet._validate import generator_and_seed
+from faultnet.catalog import SimulationResult
+from faultnet.exceptions import InvalidParameterError
+from faultnet.state import State
+
+__all__ = ["X0_AMPLITUDE", "KernelArrays", "initial_state", "trace_indices"]
+
+#: initial displacements are drawn uniformly from [0, X0_AMPLITUDE)
+X0_AMPLITUDE = 0.01
+
+
+def _kernels():
+    from faultnet import _kernels
+
+    return _kernels
+
+
+def initial_state(model, x0, rng):
+    """``(State, SeedSequence or None)`` from ``x0`` (array, State, result) or from ``rng``."""
+    if isinstance(x0, SimulationResult):
+        x0 = x0.state
+    if isinstance(x0, State):
+        z = np.asarray(x0.z, dtype=np.float64)
+        if z.shape != (model.n,):
+            raise InvalidParameterError(f"x0 state has {z.size} blocks but the model has {model.n}")
+        return x0.copy(), None
+    if x0 is None:
+        gen, seq = generator_and_seed(rng)
+        return State.from_x(gen.uniform(0.0, X0_AMPLITUDE, model.n)), seq
+    x = np.asarray(x0, dtype=np.float64)
+    if x.shape != (model.n,):
+        raise InvalidParameterError(
+            f"x0 must have one entry per block: expected shape ({model.n},), got {x.shape}"
+        )
+    bad = np.flatnonzero(~np.isfinite(x))
+    if bad.size:
+        raise InvalidParameterError(
+            f"x0 has non-finite entries at positions {bad[:5].tolist()}: {x[bad[:5]].tolist()}"
+        )
+    return State.from_x(x), None
+
+
+def trace_indices(model, trace_nodes):
+    """Block indices of ``trace_nodes`` (graph node labels), checked."""
+    if trace_nodes is None:
+        return np.zeros(0, dtype=np.int64)
+    index = {node: i for i, node in enumerate(model.nodes)}
+    missing = [n for n in trace_nodes if n not in index]
+    if missing:
+        raise InvalidParameterError(f"trace_nodes not in the graph: {missing[:5]}")
+    return np.array([index[n] for n in trace_nodes], dtype=np.int64)
+
+
+class KernelArrays:
+    """Topology, parameters, state, work space and buffers of one running simulation."""
+
+    def __init__(self, model, state, options, dt, record_slips, trace_idx, max_trace_rows):
+        n = model.n
+        K = _kernels()
+        adj = model.adjacency
+        self.indptr = adj.indptr.astype(np.int64)
+        self.indices = adj.indices.astype(np.int64)
+        self.z = np.array(state.z, dtype=np.float64)
+        self.scal = np.zeros(SCAL_SIZE, dtype=np.float64)
+        self.scal[SCAL_OFFSET], self.scal[SCAL_W] = state.offset, state.w
+        self.n_events = state.n_events
+        self.keys = np.empty(n, dtype=np.float64)
+        self.tree = K.empty_tree(n)
+        # one entry kernel per scheme: a run compiles only its own scheme's code
+        self.kernel = K.run_events_rk4 if options.method == "rk4" else K.run_events_dopri5
+        from faultnet import _compile_helper
+
+        _compile_helper.start(self.kernel)  # a cold cache: a second core compiles too
+        # block-major work space: one block's rows share cache lines
+        self.W = np.zeros((n, K.N_WORK_DOPRI), dtype=np.float64)
+        self.IW = np.zeros((K.N_IWORK, n), dtype=np.int64)
+        self.ctrl = np.zeros(CTRL_SIZE, dtype=np.float64)
+        self.ctrl[CTRL_MAX_DURATION] = options.max_event_duration
+        self.ctrl[CTRL_MAX_VELOCITY] = options.max_velocity
+        self.ctrl[CTRL_SOLO_CACHE] = float(options.solo_cache)
+        self.ctrl[CTRL_LOCAL_FROM] = float(options.local_regions_from)
+        self.cnt = np.zeros(CNT_SIZE, dtype=np.int64)
+        # local-region context (boundary, times) and the boundary's dense coefficients
+        self.loc = np.zeros(K.LOC_SIZE, dtype=np.float64)
+        self.out = np.zeros(OUT_SIZE, dtype=np.float64)
+        self.record_slips = bool(record_slips)
+        self.slip_cap = max(4 * n, 1 << 16) if record_slips else 0
+        self._slip_buffers(self.slip_cap)
+        self.trace_idx = trace_idx
+        rows = max_trace_rows if trace_idx.size else 0
+        self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
+        self.profiles = np.zeros((0, 0), dtype=np.float64)
+        self.set_parameters(model, dt)
+
+    def _slip_buffers(self, cap):
+        self.slip_e = np.zeros(cap, dtype=np.int64)
+        self.slip_n = np.zeros(cap, dtype=np.int64)
+        self.slip_v = np.zeros(cap, dtype=np.float64)
+
+    def set_parameters(self, model, dt):
+        """Per-block parameters of ``model``, a fresh solo cache and keys consistent with z."""
+        self.kval = model.adjacency.data.astype(np.float64)
+        self.diag = model.stiffness.astype(np.float64)
+        self.oms = 1.0 - model.sigma_values
+        self.cfr = 2.0 * model.alpha_values / self.oms
+        self.ctrl[CTRL_DT] = dt
+        # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
+        self.cls = model.block_classes
+        self.solo = np.full((int(self.cls.max()) + 1, 3), np.nan)
+        _kernels().build_keys_and_tree(
+            self.z, self.indptr, self.indices, self.kval, self.diag, self.keys, self.tree
+        )
+
+    def state(self) -> State:
+        """A copy of the state between events."""
+        return State(
+            self.z.copy(), float(self.scal[SCAL_OFFSET]), float(self.scal[SCAL_W]), self.n_events
+        )
+
+    def start_chunk(self, profile_rows):
+        """Empty the recording buffers for the next :meth:`Simulator.advance`."""
+        self.slip_parts, self.slip_rows, self.slips_truncated = [], 0, False
+        if self.record_slips and self.slip_v.size == 0:
+            self._slip_buffers(self.slip_cap)
+        self.cnt[CNT_SLIP_ROWS] = 0
+        self.cnt[CNT_TRACE_ROWS] = self.cnt[CNT_TRACE_FULL] = 0
+        n = self.z.shape[0] if profile_rows else 0
+        self.profiles = np.zeros((profile_rows, n), dtype=np.float64)
+
+    def call(self, n_req, ev0, cat_f, cat_i, done):
+        """One call of the entry kernel: up to ``n_req`` events into the catalog rows."""
+        self.cnt[CNT_EVENTS] = 0
+        profiles = self.profiles[done:] if self.profiles.shape[0] else self.profiles
+        return self.kernel(
+            n_req, ev0, self.z, self.scal, self.keys, self.tree, self.W, self.IW,
+            self.indptr, self.indices, self.kval, self.diag, self.oms, self.cfr,
+            self.ctrl, self.loc, self.cls, self.solo, cat_f, cat_i,
+            self.slip_e, self.slip_n, self.slip_v, self.trace_idx, self.trace,
+            profiles, self.cnt, self.out,
+        )  # fmt: skip
+
+    def take_slips(self, limit):
+        """Move the buffered slip rows to ``slip_parts``; stop recording past ``limit`` rows."""
+        m = min(int(self.cnt[CNT_SLIP_ROWS]), limit - self.slip_rows)
+        if m > 0:
+            self.slip_parts.append(
+                (self.slip_e[:m].copy(), self.slip_n[:m].copy(), self.slip_v[:m].copy())
+            )
+            self.slip_rows += m
+        self.cnt[CNT_SLIP_ROWS] = 0
+        if self.slip_v.size and self.slip_rows >= limit:
+            self.slips_truncated = True
+            self._slip_buffers(0)

@@ -1,0 +1,192 @@
+"""Run options: every choice that changes a run's numbers, in one frozen record.
+
+A :class:`RunOptions` is validated once, when it is made, with errors that name
+the option and its allowed values.  :func:`faultnet.simulate`, the
+:class:`~faultnet.Simulator`, long runs to Parquet, sweep files and the
+command line all take one; it is recorded whole in
+``SimulationResult.metadata["options"]`` and in a checkpoint's identity, so a
+resume with other options is refused.
+
+>>> from faultnet import RunOptions
+>>> opts = RunOptions(method="rk4", dt=0.01)
+>>> opts.method, opts.dt
+('rk4', 0.01)
+>>> RunOptions.from_dict(opts.to_dict()) == opts
+True
+>>> RunOptions(method="euler")
+Traceback (most recent call last):
+...
+faultnet.exceptions.InvalidParameterError: method must be one of ['dopri5', 'rk4']; got 'euler'
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from faultnet._validate import check_int, check_positive
+from faultnet.exceptions import InvalidParameterError
+
+__all__ = ["DT_COEFFICIENT", "METHODS", "RunOptions", "default_dt", "omega2_max"]
+
+#: integration schemes inside events, and their kernel codes
+METHODS = {"rk4": 0, "dopri5": 1}
+#: default step = DT_COEFFICIENT[method] / sqrt(omega2_max); see :func:`default_dt`
+DT_COEFFICIENT = {"rk4": 0.08, "dopri5": 0.3}
+#: RK4 is stable on an oscillator for omega*dt < 2.83; steps near it are refused
+DT_STABILITY = 2.5
+#: an event may take at most this many steps of ``dt`` (``max_event_duration / dt``)
+MAX_STEPS_PER_EVENT = 1e9
+
+
+def omega2_max(model) -> float:
+    """Gershgorin bound on the squared top frequency, plus the alpha growth rate.
+
+    ``max_i (1 + 2 sum_j k_ij) + max_i alpha_i^2``: the largest eigenvalue of
+    the dynamical matrix ``L + I`` is at most the first term; the second
+    accounts for the growth rate of the negative damping ``2 alpha``.
+    """
+    deg = np.asarray(model.adjacency.sum(axis=1)).ravel()
+    return float(np.max(1.0 + 2.0 * deg) + np.max(model.alpha_values) ** 2)
+
+
+def _check_method(method):
+    if not isinstance(method, str) or method not in METHODS:
+        raise InvalidParameterError(f"method must be one of {sorted(METHODS)}; got {method!r}")
+    return method
+
+
+def default_dt(model, method: str = "dopri5") -> float:
+    """Default integration step: ``DT_COEFFICIENT[method] / sqrt(omega2_max(model))``.
+
+    With the coefficients 0.3 (dopri5) and 0.08 (rk4), slip sizes of single
+    events are within 3e-7 relative of the dt -> 0 limit on the one-block,
+    two-block and ring test cases (``tests/test_convergence.py``).
+
+    >>> import faultnet
+    >>> one = faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=2.0)
+    >>> round(default_dt(one), 6), round(default_dt(one, "rk4"), 6)
+    (0.134164, 0.035777)
+    """
+    return DT_COEFFICIENT[_check_method(method)] / math.sqrt(omega2_max(model))
+
+
+@dataclass(frozen=True)
+class RunOptions:
+    """The numerical choices of a run (all of them change results).
+
+    Parameters
+    ----------
+    method : {"dopri5", "rk4"}
+        Scheme inside events: fixed-step Dormand-Prince 5(4) (default) or
+        classical RK4.  Both locate stick and join instants inside a step.
+    dt : float or None
+        Integration step inside events; None: :func:`default_dt` of the model
+        and method.
+    solo_cache : bool
+        An event whose hypocentre slips alone depends only on that block's
+        stiffness, sigma and alpha: integrate it once per such parameter class
+        and reuse it (True, default), or integrate every event (False, the
+        reference in tests).
+    local_regions_from : int or float("inf")
+        Events with at least this many slipping blocks handle the crossings
+        of a step in small local regions (DP5 only): far fewer block-steps in
+        large 2-D events, with each region's change neglected outside it
+        (their S error against dt -> 0 is 1.1-2.4 times the whole-event
+        treatment's at the same dt, ``tests/test_local.py``).  ``inf``: always
+        the exact whole-event treatment.
+    max_event_duration : float
+        An event lasting longer (time units) stops the run with an error.
+    max_velocity : float
+        A block faster than this stops the run with an error (runaway).
+    """
+
+    method: str = "dopri5"
+    dt: float | None = None
+    solo_cache: bool = True
+    local_regions_from: float = 32
+    max_event_duration: float = 1e4
+    max_velocity: float = 1e3
+
+    def __post_init__(self):
+        _check_method(self.method)
+        if self.dt is not None:
+            object.__setattr__(self, "dt", check_positive("dt", self.dt))
+        if not isinstance(self.solo_cache, bool | np.bool_):
+            raise InvalidParameterError(
+                f"solo_cache must be True or False; got {self.solo_cache!r}"
+            )
+        object.__setattr__(self, "solo_cache", bool(self.solo_cache))
+        lr = self.local_regions_from
+        if not (isinstance(lr, float) and lr == math.inf):
+            lr = check_int("local_regions_from", lr, minimum=1)
+        object.__setattr__(self, "local_regions_from", lr)
+        for name in ("max_event_duration", "max_velocity"):
+            object.__setattr__(self, name, check_positive(name, getattr(self, name)))
+
+    def step(self, model) -> float:
+        """The step of a run of ``model``: ``dt``, or the default, checked for stability.
+
+        A step beyond the RK4 stability limit, or one that would need more
+        than 10^9 steps for an event of ``max_event_duration``, is refused.
+        """
+        limit = DT_STABILITY / math.sqrt(omega2_max(model))
+        dt = default_dt(model, self.method) if self.dt is None else self.dt
+        if dt > limit:
+            raise InvalidParameterError(
+                f"dt={dt:g} is beyond the RK4 stability limit {limit:.4g} of this model "
+                f"(stiffest block); use dt <= {limit:.4g} or leave dt=None for "
+                f"{default_dt(model, self.method):.4g}"
+            )
+        if self.max_event_duration / dt > MAX_STEPS_PER_EVENT:
+            raise InvalidParameterError(
+                f"dt={dt:g} is too small: an event of max_event_duration="
+                f"{self.max_event_duration:g} would take more than {MAX_STEPS_PER_EVENT:.0e} "
+                f"steps and could run for days; use dt >= "
+                f"{self.max_event_duration / MAX_STEPS_PER_EVENT:.3g} (default "
+                f"{default_dt(model, self.method):.4g})"
+            )
+        return dt
+
+    def replace(self, **changes) -> RunOptions:
+        """A copy with ``changes`` applied (and validated)."""
+        return dataclasses.replace(self, **changes)
+
+    def to_dict(self) -> dict:
+        """Plain JSON-friendly values (``inf`` as the string ``"inf"``)."""
+        d = dataclasses.asdict(self)
+        if d["local_regions_from"] == math.inf:
+            d["local_regions_from"] = "inf"
+        return d
+
+    @classmethod
+    def from_dict(cls, d) -> RunOptions:
+        """Inverse of :meth:`to_dict`; unknown keys are refused by name."""
+        if not isinstance(d, dict):
+            raise InvalidParameterError(f"run options must be a table/dict; got {d!r}")
+        names = {f.name for f in dataclasses.fields(cls)}
+        unknown = sorted(set(d) - names)
+        if unknown:
+            raise InvalidParameterError(
+                f"unknown run option(s) {unknown}; allowed: {sorted(names)}"
+            )
+        d = dict(d)
+        if d.get("local_regions_from") in ("inf", "Infinity"):
+            d["local_regions_from"] = math.inf
+        return cls(**d)
+
+    @classmethod
+    def coerce(cls, options) -> RunOptions:
+        """``options`` as a RunOptions: None (defaults), a RunOptions or a dict."""
+        if options is None:
+            return cls()
+        if isinstance(options, cls):
+            return options
+        if isinstance(options, dict):
+            return cls.from_dict(options)
+        raise InvalidParameterError(
+            f"options must be a RunOptions, a dict or None; got {type(options).__name__}"
+        )

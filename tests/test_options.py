@@ -1,0 +1,48 @@
+"""RunOptions: validated once, recorded whole, round-tripped through plain values."""
+
+import math
+
+import pytest
+
+import faultnet
+from faultnet import InvalidParameterError, RunOptions
+
+
+@pytest.mark.parametrize(
+    "kwargs, match",
+    [
+        ({"method": "euler"}, "method must be one of"),
+        ({"method": None}, "method must be one of"),
+        ({"dt": "abc"}, "dt must be a finite real number; got 'abc'"),
+        ({"dt": 0.0}, "dt must be finite and > 0"),
+        ({"dt": True}, "dt must be a finite real number"),
+        ({"solo_cache": "yes"}, "solo_cache must be True or False"),
+        ({"local_regions_from": 0}, "local_regions_from must be an integer >= 1"),
+        ({"local_regions_from": 2.5}, "local_regions_from must be an integer >= 1"),
+        ({"max_velocity": -1.0}, "max_velocity must be finite and > 0"),
+        ({"max_event_duration": float("nan")}, "max_event_duration must be a finite"),
+    ],
+)
+def test_bad_options_name_the_option(kwargs, match):
+    with pytest.raises(InvalidParameterError, match=match):
+        RunOptions(**kwargs)
+
+
+def test_round_trip_and_replace():
+    opts = RunOptions(method="rk4", dt=0.01, local_regions_from=math.inf)
+    assert RunOptions.from_dict(opts.to_dict()) == opts
+    assert opts.replace(dt=None).dt is None and opts.dt == 0.01  # frozen
+    with pytest.raises(InvalidParameterError, match="unknown run option"):
+        RunOptions.from_dict({"dt": 0.1, "tol": 1})
+
+
+def test_step_resolution():
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(10), k=16, sigma=0.01, alpha=1.0)
+    assert RunOptions().step(model) == faultnet.default_dt(model)
+    assert RunOptions(method="rk4").step(model) == faultnet.default_dt(model, "rk4")
+    assert RunOptions(dt=1e-3).step(model) == 1e-3
+    with pytest.raises(InvalidParameterError, match="stability limit"):
+        RunOptions(dt=1.0).step(model)
+    # a step that cannot finish an event in a bounded number of steps is refused
+    with pytest.raises(InvalidParameterError, match="too small"):
+        RunOptions(dt=1e-300).step(model)
