@@ -1,4 +1,4 @@
-"""Sweeps: grid expansion, config errors, skipping and recomputing parts, Dask."""
+"""Sweeps (faultnet.sweep): seeds, skipping, recomputing and resuming points, executors, Dask."""
 
 import os
 import textwrap
@@ -9,8 +9,9 @@ import pytest
 
 import faultnet
 from faultnet import runner
-from faultnet.io import OutputExistsError, read_catalog, read_metadata
-from faultnet.sweep import ConfigError, SweepConfig, SweepError, load_config, summarize, sweep
+from faultnet.exceptions import OutputExistsError, SweepError
+from faultnet.io import read_catalog, read_metadata
+from faultnet.sweep import summarize, sweep
 
 SMALL = {
     "graph": ["ring:40", "chain:30"],
@@ -34,12 +35,12 @@ def _write(path, text):
     return path
 
 
-def _parts(out):
+def _point_files(out):
     return sorted(n for n in os.listdir(out) if n.startswith("part-"))
 
 
 def _frames(out):
-    return {n: read_catalog(os.path.join(out, n)).events for n in _parts(out)}
+    return {n: read_catalog(os.path.join(out, n)).events for n in _point_files(out)}
 
 
 @pytest.fixture(scope="module")
@@ -74,94 +75,16 @@ def test_grid_and_seeds(reference):
     )
 
 
-def test_toml_vars_and_defaults(tmp_path):
-    path = _write(
-        tmp_path / "perc.toml",
-        """\
-        [sweep]
-        graph = ["percolation:square:{L}x{L}:p={p}", "ring:{L}"]
-        k = [8, 16]
-        events = 100
-        replicas = 2
-        [sweep.vars]
-        L = [10, 12]
-        p = [0.6, 0.8]
-        """,
-    )
-    cfg = load_config(path)
-    assert cfg.graphs == [
-        "percolation:square:10x10:p=0.6",
-        "percolation:square:10x10:p=0.8",
-        "percolation:square:12x12:p=0.6",
-        "percolation:square:12x12:p=0.8",
-        "ring:10",
-        "ring:12",
-    ]
-    assert cfg.out == str(tmp_path / "perc") and cfg.seed is None
-    points = cfg.with_seed().points()
-    assert len(points) == 6 * 2 * 2
-    assert [p["spawn_key"] for p in points[:3]] == [[0], [1], [2]]
-    assert points[1]["replica"] == 1 and points[2]["k"] == 16.0
-
-
-@pytest.mark.parametrize(
-    "table, match",
-    [
-        (
-            {"graph": "ring:10", "events": 10, "alpah": 1},
-            r"unknown key 'alpah'.*did you mean 'alpha'"
-            r".*allowed keys: graph, events, alpha",
-        ),
-        ({"graph": "ring:10", "events": 10, "alpha": "fast"}, r"sweep\.alpha: expected a number"),
-        (
-            {"graph": "ring:10", "events": 10, "sigma": [0.5, 1.5]},
-            r"sweep\.sigma: 1\.5 is not "
-            r"allowed.*open interval \(0, 1\)",
-        ),
-        ({"graph": "ring:10", "events": 0}, r"sweep\.events: expected an integer >= 1"),
-        ({"graph": "ring:10"}, r"sweep\.events is required"),
-        ({"events": 10}, r"sweep\.graph is required"),
-        (
-            {"graph": "hex:10", "events": 10},
-            r"(?s)sweep\.graph\[0\].*unknown graph kind 'hex'.*valid "
-            r"forms:.*ring:N",
-        ),
-        ({"graph": "ring:{n}", "events": 10}, r"uses \{n\} but sweep\.vars has no 'n'"),
-        ({"graph": "ring:10", "events": 10, "vars": {"n": [1]}}, r"sweep\.vars: 'n' not used"),
-        (
-            {"graph": "ring:10", "events": 10, "transient": 10},
-            r"sweep\.transient.*less than events",
-        ),
-        (
-            {"graph": "ring:10", "events": 10, "replicas": 1.5},
-            r"sweep\.replicas: expected an integer",
-        ),
-    ],
-)
-def test_config_errors_name_the_field(table, match):
-    with pytest.raises(ConfigError, match=match):
-        SweepConfig.from_dict(table)
-
-
-def test_toml_file_errors(tmp_path):
-    with pytest.raises(ConfigError, match="not valid TOML"):
-        load_config(_write(tmp_path / "a.toml", "[sweep\n"))
-    with pytest.raises(ConfigError, match=r"unknown top-level key or table 'run'"):
-        load_config(_write(tmp_path / "b.toml", "[run]\nx = 1\n"))
-    with pytest.raises(ConfigError, match="does not exist"):
-        load_config(tmp_path / "missing.toml")
-
-
 def test_rerun_skips_finished_and_recomputes_truncated(tmp_path, reference):
     _, _, frames = reference
     path = _write(tmp_path / "s.toml", TOML)
     out = tmp_path / "s"
     sweep(path, workers=1, progress=False)
-    stamps = {n: os.stat(out / n).st_mtime_ns for n in _parts(out)}
-    # truncate one part, delete another
-    part1 = out / "part-00001.parquet"
-    data = part1.read_bytes()
-    part1.write_bytes(data[: len(data) // 3])
+    stamps = {n: os.stat(out / n).st_mtime_ns for n in _point_files(out)}
+    # truncate one point's catalog, delete another
+    point1 = out / "part-00001.parquet"
+    data = point1.read_bytes()
+    point1.write_bytes(data[: len(data) // 3])
     os.remove(out / "part-00002.parquet")
     messages = []
     table = sweep(path, workers=1, progress=False, log=messages.append)
@@ -210,7 +133,7 @@ def test_failed_points_are_reported_and_others_kept(tmp_path):
     table = info.value.summary
     assert table["status"].tolist()[0] == "done"
     assert table["status"].tolist()[1].startswith("failed: InvalidParameterError")
-    assert _parts(tmp_path / "f") == ["part-00000.parquet"]
+    assert _point_files(tmp_path / "f") == ["part-00000.parquet"]
 
 
 def test_local_processes_and_dask_cluster_agree(tmp_path, reference):
@@ -276,7 +199,7 @@ def test_interrupted_point_is_resumed(tmp_path, monkeypatch):
 
     def save(*args):
         calls.append(1)
-        if len(calls) > 7:  # point 0 finishes (5 parts), point 1 dies after 2 parts
+        if len(calls) > 7:  # point 0 finishes (5 chunks), point 1 dies after 2 chunks
             raise Crash
         return real(*args)
 
