@@ -19,6 +19,9 @@ import numbers
 import networkx as nx
 import numpy as np
 
+from faultnet._validate import check_int, generator_and_seed
+from faultnet.exceptions import InvalidParameterError
+
 __all__ = [
     "chain",
     "ring",
@@ -30,16 +33,6 @@ __all__ = [
 
 _THRESHOLDS = {"square": 0.592746, "triangular": 0.5}
 _KEEP_VALUES = ("largest", "all")
-
-
-def _check_int(name, value, minimum=1):
-    """Return ``value`` as a Python int, or raise naming ``name`` and ``value``."""
-    if isinstance(value, bool | np.bool_) or not isinstance(value, numbers.Integral):
-        raise TypeError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    value = int(value)
-    if value < minimum:
-        raise ValueError(f"{name} must be an integer >= {minimum}, got {value!r}")
-    return value
 
 
 def chain(n):
@@ -62,7 +55,7 @@ def chain(n):
     >>> G.number_of_edges(), G.nodes[3]["pos"], G.graph["name"]
     (3, (3.0, 0.0), 'chain(4)')
     """
-    n = _check_int("n", n)
+    n = check_int("n", n)
     G = nx.Graph(name=f"chain({n})")
     G.add_nodes_from((i, {"pos": (float(i), 0.0)}) for i in range(n))
     G.add_edges_from((i, i + 1) for i in range(n - 1))
@@ -91,9 +84,9 @@ def ring(n):
     >>> G.number_of_edges(), sorted(G[0]), G.graph["name"]
     (6, [1, 5], 'ring(6)')
     """
-    n = _check_int("n", n)
+    n = check_int("n", n)
     if n < 3:
-        raise ValueError(
+        raise InvalidParameterError(
             f"ring needs n >= 3, got n={n}: ring({n}) would double the spring between "
             f"its blocks (or make a self-loop); use chain({n}) instead"
         )
@@ -141,11 +134,11 @@ def square_lattice(rows, cols, periodic=False, sparse=False):
     >>> square_lattice(3, 3, periodic=True).number_of_edges()
     18
     """
-    rows = _check_int("rows", rows)
-    cols = _check_int("cols", cols)
+    rows = check_int("rows", rows)
+    cols = check_int("cols", cols)
     periodic = bool(periodic)
     if periodic and (rows < 3 or cols < 3):
-        raise ValueError(
+        raise InvalidParameterError(
             f"periodic square_lattice needs rows >= 3 and cols >= 3, got rows={rows}, "
             f"cols={cols}: wrapping would create duplicate edges or self-loops"
         )
@@ -216,11 +209,11 @@ def triangular_lattice(rows, cols, periodic=False):
     >>> H.number_of_edges(), {d for _, d in H.degree()}
     (36, {6})
     """
-    rows = _check_int("rows", rows)
-    cols = _check_int("cols", cols)
+    rows = check_int("rows", rows)
+    cols = check_int("cols", cols)
     periodic = bool(periodic)
     if periodic and (rows < 4 or rows % 2 or cols < 3):
-        raise ValueError(
+        raise InvalidParameterError(
             f"periodic triangular_lattice needs an even rows >= 4 and cols >= 3, got "
             f"rows={rows}, cols={cols}: an odd row count breaks the row offsets across "
             f"the seam, and smaller sizes would create duplicate edges"
@@ -271,22 +264,18 @@ def percolation_threshold(kind):
         return _THRESHOLDS[kind]
     except (KeyError, TypeError):
         allowed = ", ".join(repr(k) for k in _THRESHOLDS)
-        raise ValueError(f"unknown lattice kind {kind!r}; expected one of {allowed}") from None
+        raise InvalidParameterError(
+            f"unknown lattice kind {kind!r}; expected one of {allowed}"
+        ) from None
 
 
-def _normalise_rng(rng):
-    """Return ``(generator, seed_record)`` following SPEC 7."""
-    if rng is None:
-        rng = np.random.SeedSequence()
-    if isinstance(rng, np.random.SeedSequence):
-        return np.random.default_rng(rng), rng.entropy
-    if isinstance(rng, numbers.Integral) and not isinstance(rng, bool | np.bool_):
-        return np.random.default_rng(int(rng)), int(rng)
-    if isinstance(rng, np.random.Generator):
-        return rng, None
-    if isinstance(rng, bool | np.bool_):
-        raise TypeError(f"rng must be None, an int, a SeedSequence or a Generator, got {rng!r}")
-    return np.random.default_rng(rng), None
+def _generator_and_record(rng):
+    """``(generator, seed)``: SPEC 7 ``rng`` and the seed recorded in ``G.graph["seed"]``.
+
+    The record is the int seed or the SeedSequence entropy; None for a Generator.
+    """
+    generator, seq = generator_and_seed(rng)
+    return generator, None if isinstance(rng, np.random.Generator) else seq.entropy
 
 
 def _smallest_label_key(component, order):
@@ -338,8 +327,9 @@ def site_percolation(graph, p, rng=None, keep="largest", prune_isolated=False):
 
     Raises
     ------
-    ValueError
-        If ``p`` is outside ``[0, 1]``, ``keep`` is unknown, or no node remains.
+    InvalidParameterError
+        If ``graph`` is not an undirected networkx graph, ``p`` is outside
+        ``[0, 1]``, ``keep`` is unknown, or no node remains.
 
     Examples
     --------
@@ -353,24 +343,28 @@ def site_percolation(graph, p, rng=None, keep="largest", prune_isolated=False):
     "site_percolation(square_lattice(20, 20), p=0.8, keep='largest')"
     """
     if not isinstance(graph, nx.Graph) or graph.is_directed():
-        raise TypeError(f"graph must be an undirected networkx.Graph, got {type(graph).__name__}")
+        raise InvalidParameterError(
+            f"graph must be an undirected networkx.Graph, got {type(graph).__name__}"
+        )
     if isinstance(p, bool | np.bool_) or not isinstance(p, numbers.Real):
-        raise TypeError(f"p must be a real number in [0, 1], got p={p!r}")
+        raise InvalidParameterError(f"p must be a real number in [0, 1], got p={p!r}")
     p = float(p)
     if not 0.0 <= p <= 1.0:
-        raise ValueError(f"p must lie in [0, 1], got p={p!r}")
+        raise InvalidParameterError(f"p must lie in [0, 1], got p={p!r}")
     if keep not in _KEEP_VALUES:
         allowed = ", ".join(repr(k) for k in _KEEP_VALUES)
-        raise ValueError(f"keep must be one of {allowed}, got keep={keep!r}")
+        raise InvalidParameterError(f"keep must be one of {allowed}, got keep={keep!r}")
     prune_isolated = bool(prune_isolated)
-    generator, seed = _normalise_rng(rng)
+    generator, seed = _generator_and_record(rng)
 
     nodes = list(graph.nodes)
     draws = generator.random(len(nodes))
     occupied = [node for node, u in zip(nodes, draws, strict=True) if u < p]
     n_total = len(nodes)
     if not occupied:
-        raise ValueError(f"no site occupied at p={p!r} on a {n_total}-node graph; increase p")
+        raise InvalidParameterError(
+            f"no site occupied at p={p!r} on a {n_total}-node graph; increase p"
+        )
 
     sub = graph.subgraph(occupied)
     if keep == "largest":
@@ -383,7 +377,7 @@ def site_percolation(graph, p, rng=None, keep="largest", prune_isolated=False):
     if prune_isolated:
         sub = graph.subgraph(node for node in sub if sub.degree(node) > 0)
         if sub.number_of_nodes() == 0:
-            raise ValueError(
+            raise InvalidParameterError(
                 f"only isolated sites occupied at p={p!r} on a {n_total}-node graph "
                 f"(prune_isolated=True left nothing); increase p"
             )

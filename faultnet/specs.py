@@ -45,7 +45,8 @@ import networkx as nx
 import numpy as np
 
 from faultnet import graphs
-from faultnet.exceptions import InvalidParameterError
+from faultnet._validate import seed_sequence
+from faultnet.exceptions import GraphSpecError, InvalidParameterError
 
 __all__ = [
     "DEFAULT_PARAMS",
@@ -74,10 +75,6 @@ GRAPH_SPEC_FORMS = (
 )
 
 _GRAPH_FILE_SUFFIXES = (".graphml", ".json")
-
-
-class GraphSpecError(InvalidParameterError):
-    """A graph spec could not be parsed or built; the message lists the valid forms."""
 
 
 def _spec_error(spec, why):
@@ -178,7 +175,7 @@ def parse_graph_spec(spec) -> GraphSpec:
     >>> parse_graph_spec("hexagonal:10")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    faultnet.specs.GraphSpecError: invalid graph spec 'hexagonal:10': unknown graph kind...
+    faultnet.exceptions.GraphSpecError: invalid graph spec 'hexagonal:10': unknown graph kind...
     """
     if isinstance(spec, GraphSpec):
         return spec
@@ -320,9 +317,7 @@ def build_graph(spec, rng=None):
             if gs.seed is not None:
                 seq = np.random.SeedSequence(gs.seed)
             else:
-                seq = graph_seed(
-                    rng if isinstance(rng, np.random.SeedSequence) else np.random.SeedSequence(rng)
-                )
+                seq = graph_seed(seed_sequence(rng))
             G = graphs.site_percolation(
                 parent, gs.p, rng=seq, keep=gs.keep, prune_isolated=gs.prune
             )

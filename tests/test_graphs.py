@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from faultnet import graphs
+from faultnet.exceptions import InvalidParameterError
 from faultnet.graphs import (
     chain,
     percolation_threshold,
@@ -71,7 +72,9 @@ def test_ring_neighbours_about_one_apart():
 
 @pytest.mark.parametrize("n", [1, 2])
 def test_ring_too_small_suggests_chain(n):
-    with pytest.raises(ValueError, match=rf"ring\({n}\) would double the spring.*chain\({n}\)"):
+    with pytest.raises(
+        InvalidParameterError, match=rf"ring\({n}\) would double the spring.*chain\({n}\)"
+    ):
         ring(n)
 
 
@@ -105,7 +108,7 @@ def test_periodic_square_lattice(rows, cols):
 
 @pytest.mark.parametrize(("rows", "cols"), [(2, 5), (5, 2), (1, 1)])
 def test_periodic_square_lattice_too_small(rows, cols):
-    with pytest.raises(ValueError, match="duplicate edges"):
+    with pytest.raises(InvalidParameterError, match="duplicate edges"):
         square_lattice(rows, cols, periodic=True)
 
 
@@ -144,22 +147,22 @@ def test_periodic_triangular_lattice(rows, cols):
 
 @pytest.mark.parametrize(("rows", "cols"), [(5, 4), (3, 4), (2, 4), (4, 2)])
 def test_periodic_triangular_lattice_invalid(rows, cols):
-    with pytest.raises(ValueError, match=rf"even rows >= 4 and cols >= 3.*rows={rows}"):
+    with pytest.raises(InvalidParameterError, match=rf"even rows >= 4 and cols >= 3.*rows={rows}"):
         triangular_lattice(rows, cols, periodic=True)
 
 
 @pytest.mark.parametrize(
     ("func", "args", "exc", "pattern"),
     [
-        (chain, (0,), ValueError, r"n must be .*got 0"),
-        (chain, (2.5,), TypeError, r"n must be an integer.*2\.5"),
-        (chain, (True,), TypeError, r"n must be an integer.*True"),
-        (ring, ("5",), TypeError, r"n must be an integer.*'5'"),
-        (square_lattice, (0, 4), ValueError, r"rows must be .*got 0"),
-        (square_lattice, (4, -2), ValueError, r"cols must be .*got -2"),
-        (square_lattice, (4, 3.0), TypeError, r"cols must be an integer.*3\.0"),
-        (triangular_lattice, (False, 3), TypeError, r"rows must be an integer.*False"),
-        (triangular_lattice, (3, 0), ValueError, r"cols must be .*got 0"),
+        (chain, (0,), InvalidParameterError, r"n must be .*got 0"),
+        (chain, (2.5,), InvalidParameterError, r"n must be an integer.*2\.5"),
+        (chain, (True,), InvalidParameterError, r"n must be an integer.*True"),
+        (ring, ("5",), InvalidParameterError, r"n must be an integer.*'5'"),
+        (square_lattice, (0, 4), InvalidParameterError, r"rows must be .*got 0"),
+        (square_lattice, (4, -2), InvalidParameterError, r"cols must be .*got -2"),
+        (square_lattice, (4, 3.0), InvalidParameterError, r"cols must be an integer.*3\.0"),
+        (triangular_lattice, (False, 3), InvalidParameterError, r"rows must be an integer.*False"),
+        (triangular_lattice, (3, 0), InvalidParameterError, r"cols must be .*got 0"),
     ],
 )
 def test_bad_sizes_raise_with_value(func, args, exc, pattern):
@@ -176,7 +179,7 @@ def test_numpy_integers_accepted():
 def test_percolation_threshold():
     assert percolation_threshold("square") == 0.592746
     assert percolation_threshold("triangular") == 0.5
-    with pytest.raises(ValueError, match="'honeycomb'"):
+    with pytest.raises(InvalidParameterError, match="'honeycomb'"):
         percolation_threshold("honeycomb")
 
 
@@ -281,30 +284,44 @@ def test_p_one_returns_whole_graph():
 
 
 def test_p_zero_and_empty_results_raise():
-    with pytest.raises(ValueError, match=r"no site occupied at p=0\.0 on a 4-node graph"):
+    with pytest.raises(
+        InvalidParameterError, match=r"no site occupied at p=0\.0 on a 4-node graph"
+    ):
         site_percolation(chain(4), 0.0, rng=0)
-    with pytest.raises(ValueError, match=r"p=0\.01.*4-node"):
+    with pytest.raises(InvalidParameterError, match=r"p=0\.01.*4-node"):
         site_percolation(chain(4), 0.01, rng=0)
     # a lone occupied site is pruned away -> nothing left
-    with pytest.raises(ValueError, match=r"isolated.*p=1\.0"):
+    with pytest.raises(InvalidParameterError, match=r"isolated.*p=1\.0"):
         site_percolation(nx.empty_graph(3), 1.0, rng=0, prune_isolated=True)
 
 
 @pytest.mark.parametrize("p", [-0.1, 1.5, float("nan")])
 def test_bad_p_raises(p):
-    with pytest.raises(ValueError, match=rf"p={p!r}"):
+    with pytest.raises(InvalidParameterError, match=rf"p={p!r}"):
         site_percolation(chain(5), p)
 
 
 def test_bad_keep_raises_listing_allowed():
-    with pytest.raises(ValueError, match=r"'largest', 'all'.*keep='biggest'"):
+    with pytest.raises(InvalidParameterError, match=r"'largest', 'all'.*keep='biggest'"):
         site_percolation(chain(5), 0.5, keep="biggest")
 
 
+def test_bad_rng_raises_naming_the_allowed_values():
+    for rng in (True, "7", 1.5, -1):
+        with pytest.raises(InvalidParameterError, match="rng must be None, an int >= 0"):
+            site_percolation(chain(5), 0.5, rng=rng)
+
+
+def test_errors_are_value_errors():
+    """InvalidParameterError is a ValueError: ``except ValueError`` keeps working."""
+    with pytest.raises(ValueError, match="n must be an integer"):
+        chain(2.5)
+
+
 def test_bad_graph_and_p_types_raise():
-    with pytest.raises(TypeError, match="undirected"):
+    with pytest.raises(InvalidParameterError, match="undirected"):
         site_percolation(nx.DiGraph([(0, 1)]), 0.5)
-    with pytest.raises(TypeError, match="p=True"):
+    with pytest.raises(InvalidParameterError, match="p=True"):
         site_percolation(chain(5), True)
 
 
