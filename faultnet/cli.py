@@ -408,7 +408,7 @@ def cmd_info(args, out):
         if st is not None:
             print(
                 f"{path}: interrupted run, {st['events_done']:,} of {st['n_events'] or '?':,} "
-                f"events committed in {st['parts']} parts; continue it with\n"
+                f"events committed in {st['chunks']} chunks; continue it with\n"
                 f"  faultnet simulate --resume --out {path}",
                 file=out,
             )

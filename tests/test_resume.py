@@ -109,7 +109,7 @@ def test_crash_windows(tmp_path, monkeypatch, small, where):
     calls = {"n": 0}
 
     if where in ("after_part", "in_checkpoint"):
-        real = runner._save_checkpoint
+        real = runner.save_checkpoint
 
         def save(path, *args):
             calls["n"] += 1
@@ -122,7 +122,7 @@ def test_crash_windows(tmp_path, monkeypatch, small, where):
                 raise Crash
             return real(path, *args)
 
-        monkeypatch.setattr(runner, "_save_checkpoint", save)
+        monkeypatch.setattr(runner, "save_checkpoint", save)
     elif where == "in_merge":
 
         def merge(parts, out_, md, overwrite=False):
@@ -137,14 +137,14 @@ def test_crash_windows(tmp_path, monkeypatch, small, where):
             os.remove(os.path.join(wd, "run.json"))
             raise Crash
 
-        monkeypatch.setattr(runner, "_remove_checkpoint_dir", remove)
+        monkeypatch.setattr(runner, "remove_checkpoint_dir", remove)
     with pytest.raises(Crash):
         _run(model, out)
     monkeypatch.undo()
     if where == "after_part":  # a part beyond the checkpoint is on disk
         wd = runner.checkpoint_dir(out)
-        assert "part-000004.parquet" in os.listdir(wd)
-        assert runner.checkpoint_status(out)["parts"] == 4
+        assert "chunk-000004.parquet" in os.listdir(wd)
+        assert runner.checkpoint_status(out)["chunks"] == 4
     with pytest.raises(OutputExistsError, match="resume"):
         _run(model, out)  # never silently restarted or overwritten
     rep = _run(model, out, resume=True)
@@ -169,7 +169,7 @@ def test_resume_checks_parameters(tmp_path, small):
         _run(model, out, resume=True, rng=6)
     # a committed part that went missing cannot be resumed exactly
     wd = runner.checkpoint_dir(out)
-    os.rename(os.path.join(wd, "part-000001.parquet"), os.path.join(wd, "moved"))
+    os.rename(os.path.join(wd, "chunk-000001.parquet"), os.path.join(wd, "moved"))
     with pytest.raises(CatalogError, match="force"):
         _run(model, out, resume=True)
     with pytest.raises(OutputExistsError, match="did not write"):
@@ -180,7 +180,7 @@ def test_resume_checks_parameters(tmp_path, small):
 
 
 def _crash_after(model, out, n):
-    real = runner._save_checkpoint
+    real = runner.save_checkpoint
     calls = {"n": 0}
 
     def save(path, *args):
@@ -189,8 +189,8 @@ def _crash_after(model, out, n):
             raise Crash
         return real(path, *args)
 
-    runner._save_checkpoint = save
+    runner.save_checkpoint = save
     try:
         _run(model, out)
     finally:
-        runner._save_checkpoint = real
+        runner.save_checkpoint = real
