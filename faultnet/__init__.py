@@ -10,9 +10,8 @@ The pipeline reads as the module list: ``graphs`` -> ``model`` ->
 200
 """
 
-from importlib.metadata import PackageNotFoundError, version
-
 from faultnet import dynamics, graphs, stats
+from faultnet._version import __version__
 from faultnet.catalog import SimulationResult
 from faultnet.engine import Simulator, simulate, slip_event
 from faultnet.exceptions import (
@@ -36,7 +35,7 @@ _LAZY = {
     "simulate_to_parquet": "faultnet.runner",
     "build_model": "faultnet.specs",
     "graph_hash": "faultnet.specs",
-    "summarize": "faultnet.sweep",
+    "summarize": "faultnet.sweep_summary",
     "sweep": "faultnet.sweep",
 }
 
@@ -51,12 +50,8 @@ def __getattr__(name):
     raise AttributeError(f"module 'faultnet' has no attribute {name!r}")
 
 
-try:
-    __version__ = version("faultnet")
-except PackageNotFoundError:  # running from a source tree
-    __version__ = "0+unknown"
-
 __all__ = [
+    "__version__",
     "BFit",
     "CarlsonLanger",
     "SparseGraph",
