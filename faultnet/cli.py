@@ -176,6 +176,7 @@ def build_parser() -> argparse.ArgumentParser:
         "fresh entropy, recorded in the catalog",
     )
     p.add_argument("--dt", type=_finite, help="integration step (default: faultnet.default_dt)")
+    _run_option_flags(p)
     p.add_argument(
         "--out",
         "-o",
@@ -319,6 +320,40 @@ def _size(path):
     return f"{n} B"  # pragma: no cover
 
 
+def _run_option_flags(p):
+    g = p.add_argument_group("run options (faultnet.RunOptions; default: as recorded on --resume)")
+    g.add_argument("--method", choices=["dopri5", "rk4"], help="scheme inside events (dopri5)")
+    g.add_argument(
+        "--solo-cache",
+        action=argparse.BooleanOptionalAction,
+        default=None,
+        help="reuse the cached slip of a block slipping alone (on)",
+    )
+    g.add_argument(
+        "--local-regions-from",
+        type=_local_from,
+        metavar="N|inf",
+        help="slipping blocks from which crossings are handled in local regions (32)",
+    )
+    g.add_argument("--max-event-duration", type=_finite, metavar="T", help="guard (1e4)")
+    g.add_argument("--max-velocity", type=_finite, metavar="V", help="guard (1e3)")
+
+
+def _local_from(text):
+    if text.strip().lower() in ("inf", "infinity"):
+        return float("inf")
+    return _int_at_least(1, "an integer >= 1 or inf")(text)
+
+
+def run_options_from_args(args):
+    """The RunOptions the flags ask for, or None when no run-option flag is given."""
+    from faultnet.options import RunOptions
+
+    names = ("method", "solo_cache", "local_regions_from", "max_event_duration", "max_velocity")
+    given = {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
+    return RunOptions(**given) if given else None
+
+
 def cmd_simulate(args, out):
     import numpy as np
 
@@ -340,6 +375,7 @@ def cmd_simulate(args, out):
         sigma=args.sigma,
         alpha=args.alpha,
         dt=args.dt,
+        options=run_options_from_args(args),
         seed=args.seed,
         chunk_events=args.chunk,
         checkpoint_interval=args.checkpoint_every,
@@ -367,7 +403,7 @@ def cmd_simulate(args, out):
         )
     print(
         f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']} dt={md['dt']:.6g} "
-        f"seed={md['seed_entropy']}",
+        f"method={md['method']} seed={md['seed_entropy']}",
         file=out,
     )
     if report.path is not None:
@@ -394,8 +430,8 @@ def cmd_simulate(args, out):
 
 
 def cmd_info(args, out):
+    from faultnet.checkpoint import checkpoint_status
     from faultnet.io import read_metadata
-    from faultnet.runner import checkpoint_status
     from faultnet.summary import catalog_stats, format_metadata, format_stats
 
     path = args.catalog

@@ -3,7 +3,7 @@
 The folder holds ``sweep.json`` (the manifest: the sweep's settings and
 seed) and one catalog per point, ``part-00007.parquet`` for point 7, each
 with the checkpoint folder of an interrupted run next to it while it runs
-(see :mod:`faultnet.runner`).  The per-point file names keep the
+(see :mod:`faultnet.checkpoint`).  The per-point file names keep the
 ``part-NNNNN`` form of existing sweep folders, so every folder written so
 far is recognised and resumed.
 
@@ -22,9 +22,9 @@ import shutil
 
 from faultnet._version import __version__
 from faultnet.atomic import atomic_write_json, is_tmp_name
+from faultnet.checkpoint import CHECKPOINT_SUFFIX, checkpoint_dir, checkpoint_status
 from faultnet.exceptions import CatalogError, OutputExistsError
 from faultnet.io import read_metadata, utc_now
-from faultnet.runner import CHECKPOINT_SUFFIX, checkpoint_dir, checkpoint_status
 
 __all__ = [
     "MANIFEST",

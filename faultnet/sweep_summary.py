@@ -14,9 +14,9 @@ import os
 import pandas as pd
 
 from faultnet.atomic import is_tmp_name
+from faultnet.checkpoint import checkpoint_status
 from faultnet.exceptions import CatalogError, InvalidParameterError
 from faultnet.io import read_metadata
-from faultnet.runner import checkpoint_status
 from faultnet.summary import catalog_stats
 from faultnet.sweep_config import SweepConfig
 from faultnet.sweep_folder import MANIFEST, point_file_name

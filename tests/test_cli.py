@@ -182,7 +182,7 @@ class Crash(BaseException):
 
 def test_resume_from_the_command_line(tmp_path, capsys, monkeypatch):
     out = tmp_path / "r.parquet"
-    real = runner._save_checkpoint
+    real = runner.save_checkpoint
     calls = []
 
     def save(*args):
@@ -191,7 +191,7 @@ def test_resume_from_the_command_line(tmp_path, capsys, monkeypatch):
             raise Crash
         return real(*args)
 
-    monkeypatch.setattr(runner, "_save_checkpoint", save)
+    monkeypatch.setattr(runner, "save_checkpoint", save)
     args = [
         "simulate",
         "ring:50",
@@ -218,6 +218,8 @@ def test_resume_from_the_command_line(tmp_path, capsys, monkeypatch):
     assert "600 of 2,000 events committed" in capsys.readouterr().out
     assert main(["simulate", "--resume", "--alpha", "2", "--out", str(out)]) == 2
     assert "alpha: checkpoint has 1.5, this call 2.0" in capsys.readouterr().err
+    assert main(["simulate", "--resume", "--method", "rk4", "--out", str(out)]) == 2
+    assert "options: checkpoint has" in capsys.readouterr().err  # other run options refused
     assert main(["simulate", "--resume", "--out", str(out)]) == 0  # the rest comes from run.json
     assert "resumed at event 600" in capsys.readouterr().out
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(50), alpha=1.5)
@@ -245,3 +247,20 @@ def test_sweep_and_summarize_commands(tmp_path, capsys):
     toml.write_text('[sweep]\ngraph = "ring:30"\nalpah = 1\nevents = 300\n')
     assert main(["sweep", str(toml)]) == 2
     assert "unknown key 'alpah'" in capsys.readouterr().err
+
+
+def test_run_option_flags_reach_the_catalog(tmp_path, capsys):
+    out = tmp_path / "rk4.parquet"
+    args = ["simulate", "ring:20", "--events", "300", "--seed", "2", "--out", str(out)]
+    flags = ["--method", "rk4", "--no-solo-cache", "--local-regions-from", "inf"]
+    assert main([*args, *flags, "--no-progress"]) == 0
+    assert "method=rk4" in capsys.readouterr().out
+    md = read_catalog(out).metadata
+    assert md["options"]["method"] == "rk4" and md["options"]["solo_cache"] is False
+    assert md["options"]["local_regions_from"] == "inf"
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(20))
+    opts = faultnet.RunOptions(method="rk4", solo_cache=False, local_regions_from=float("inf"))
+    ref = faultnet.simulate(model, 300, rng=2, progress=False, options=opts)
+    pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
+    assert main(["simulate", "ring:20", "--events", "5", "--local-regions-from", "0"]) == 2
+    assert "--local-regions-from" in capsys.readouterr().err

@@ -194,7 +194,7 @@ def test_interrupted_point_is_resumed(tmp_path, monkeypatch):
         "chunk": 200,
         "checkpoint_interval": 0,
     }
-    real = runner._save_checkpoint
+    real = runner.save_checkpoint
     calls = []
 
     def save(*args):
@@ -203,7 +203,7 @@ def test_interrupted_point_is_resumed(tmp_path, monkeypatch):
             raise Crash
         return real(*args)
 
-    monkeypatch.setattr(runner, "_save_checkpoint", save)
+    monkeypatch.setattr(runner, "save_checkpoint", save)
     with pytest.raises(Crash):
         sweep(cfg, out=tmp_path / "x", workers=1, progress=False)
     monkeypatch.undo()

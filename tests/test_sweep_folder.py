@@ -5,8 +5,8 @@ import json
 import pytest
 
 from faultnet._version import __version__
+from faultnet.checkpoint import CHECKPOINT_SUFFIX
 from faultnet.exceptions import OutputExistsError
-from faultnet.runner import CHECKPOINT_SUFFIX
 from faultnet.sweep_config import SweepConfig
 from faultnet.sweep_folder import (
     MANIFEST,
