@@ -33,10 +33,89 @@ from faultnet.catalog import SimulationResult
 from faultnet.exceptions import InvalidParameterError
 from faultnet.state import State
 
-__all__ = ["X0_AMPLITUDE", "KernelArrays", "initial_state", "trace_indices"]
+__all__ = [
+    "MAX_OFFSET",
+    "SLIP_RESOLUTION",
+    "X0_AMPLITUDE",
+    "KernelArrays",
+    "initial_state",
+    "position_limit",
+    "trace_indices",
+]
 
 #: initial displacements are drawn uniformly from [0, X0_AMPLITUDE)
 X0_AMPLITUDE = 0.01
+#: float64 spacing of a position may be at most this fraction of the smallest slip scale
+SLIP_RESOLUTION = 1e-6
+#: the frame offset is a whole number moved in whole units: exact below 2**52
+MAX_OFFSET = float(2**52)
+
+
+def position_limit(model) -> float:
+    """Largest ``|x - offset|`` (positions relative to the frame) that float64 resolves.
+
+    The slips of a model range from about ``sigma_i / (1 + sum_j k_ij)`` (a
+    block slipping alone) to O(1).  A position ``x`` is stored with spacing
+    ``ulp(x) ~ |x| * eps`` (``eps = 2.2e-16``); requiring that spacing to be at
+    most :data:`SLIP_RESOLUTION` (1e-6) of the smallest slip scale ``s`` gives
+    ``|x| <= 1e-6 * s / eps``: 1.4e6 for a ring with k=16 and sigma=0.01.
+    Beyond it the slips lose digits (at 1e16 one-block slips come out 6000
+    times too small; from about 1e20 the positions no longer change).  Long
+    runs are unaffected: positions are kept relative to an integer frame
+    offset that follows the plate (:class:`~faultnet.State`).
+
+    >>> import faultnet
+    >>> f"{position_limit(faultnet.CarlsonLanger(faultnet.graphs.ring(10))):.3g}"
+    '1.36e+06'
+    """
+    scale = float(np.min(model.sigma_values / model.stiffness))
+    return SLIP_RESOLUTION * scale / np.finfo(np.float64).eps
+
+
+def _real_array(name, value):
+    """``value`` as a float64 array, refusing strings, complex numbers, bools and objects."""
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError) as exc:
+        raise InvalidParameterError(
+            f"{name} must hold real numbers, one per block; {exc}"
+        ) from None
+    if arr.dtype.kind not in "iuf":
+        kind = {"U": "str", "S": "bytes", "c": "complex", "b": "bool", "O": "object"}.get(
+            arr.dtype.kind, str(arr.dtype)
+        )
+        raise InvalidParameterError(
+            f"{name} must hold real numbers (int or float), one per block; got an array of {kind}"
+        )
+    return arr.astype(np.float64)
+
+
+def _check_frame(model, state, name, z_name):
+    """Finite, float64-resolvable state: |z|, |w| within :func:`position_limit`, offset whole."""
+    limit = position_limit(model)
+    z = np.asarray(state.z, dtype=np.float64)
+    for part, vals in ((z_name, z), (f"{name}.w", [state.w])):
+        vals = np.asarray(vals, dtype=np.float64)
+        bad = np.flatnonzero(~np.isfinite(vals))
+        if bad.size:
+            raise InvalidParameterError(
+                f"{part} has non-finite entries at positions {bad[:5].tolist()}: "
+                f"{vals[bad[:5]].tolist()}; give finite displacements"
+            )
+        big = float(np.max(np.abs(vals))) if vals.size else 0.0
+        if big > limit:
+            raise InvalidParameterError(
+                f"{part} holds |x| = {big:.3g} (relative to the plate frame): beyond "
+                f"{limit:.3g}, float64 cannot resolve this model's slips (smallest slip "
+                f"scale sigma/(1+sum k) = {limit * np.finfo(np.float64).eps / SLIP_RESOLUTION:.3g}"
+                f"); give positions within {limit:.3g} of the plate"
+            )
+    off = state.offset
+    if not (np.isfinite(off) and float(off) == np.floor(off) and abs(off) <= MAX_OFFSET):
+        raise InvalidParameterError(
+            f"{name}.offset must be a whole number with |offset| <= 2**52 = {MAX_OFFSET:.4g} "
+            f"(the plate frame moves in whole units); got {off!r}"
+        )
 
 
 def _kernels():
@@ -50,14 +129,15 @@ def initial_state(model, x0, rng):
     if isinstance(x0, SimulationResult):
         x0 = x0.state
     if isinstance(x0, State):
-        z = np.asarray(x0.z, dtype=np.float64)
+        z = _real_array("x0.z", x0.z)
         if z.shape != (model.n,):
             raise InvalidParameterError(f"x0 state has {z.size} blocks but the model has {model.n}")
+        _check_frame(model, x0, "x0", "x0.z")
         return x0.copy(), None
     if x0 is None:
         gen, seq = generator_and_seed(rng)
         return State.from_x(gen.uniform(0.0, X0_AMPLITUDE, model.n)), seq
-    x = np.asarray(x0, dtype=np.float64)
+    x = _real_array("x0", x0)
     if x.shape != (model.n,):
         raise InvalidParameterError(
             f"x0 must have one entry per block: expected shape ({model.n},), got {x.shape}"
@@ -67,7 +147,9 @@ def initial_state(model, x0, rng):
         raise InvalidParameterError(
             f"x0 has non-finite entries at positions {bad[:5].tolist()}: {x[bad[:5]].tolist()}"
         )
-    return State.from_x(x), None
+    state = State.from_x(x)
+    _check_frame(model, state, "x0", "x0")
+    return state, None
 
 
 def trace_indices(model, trace_nodes):
