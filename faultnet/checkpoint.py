@@ -20,10 +20,12 @@ exactly and the final catalog equals an uninterrupted run bit for bit.
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import json
 import os
 import re
 import shutil
+import zipfile
 
 import numpy as np
 
@@ -41,9 +43,12 @@ __all__ = [
     "mismatch",
     "prepare_resume",
     "read_json",
+    "read_run_json",
     "remove_checkpoint_dir",
     "run_identity",
     "save_checkpoint",
+    "sha256_file",
+    "verify_chunks",
 ]
 
 CHECKPOINT_SUFFIX = ".checkpoint"
@@ -97,14 +102,50 @@ def read_json(path):
         return json.load(fh)
 
 
-class Checkpoint:
-    """The contents of ``checkpoint.npz``: the state after ``rows`` committed events."""
+def _restart_hint(path):
+    out = os.path.dirname(os.path.abspath(path))
+    if out.endswith(CHECKPOINT_SUFFIX):
+        out = out[: -len(CHECKPOINT_SUFFIX)]
+    return f"rerun with --force (force=True) to discard the checkpoint and restart {out}"
 
-    def __init__(self, state, rows=0, n_chunks=0, counters=None):
+
+def read_run_json(path) -> dict:
+    """The run identity in ``run.json``; a garbled or non-object file is a CatalogError."""
+    try:
+        run = read_json(path)
+    except (OSError, ValueError) as exc:
+        raise CatalogError(
+            f"{path} is unreadable or garbled ({exc}); {_restart_hint(path)}"
+        ) from None
+    if not isinstance(run, dict):
+        raise CatalogError(
+            f"{path} holds {type(run).__name__} {str(run)[:40]}, not a run identity; "
+            f"{_restart_hint(path)}"
+        )
+    return run
+
+
+def sha256_file(path, block=1 << 16) -> str:
+    """Hex SHA-256 of a file's bytes."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        while chunk := fh.read(block):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+class Checkpoint:
+    """The contents of ``checkpoint.npz``: the state after ``rows`` committed events.
+
+    ``sha256`` holds the SHA-256 of each committed chunk file, in order.
+    """
+
+    def __init__(self, state, rows=0, n_chunks=0, counters=None, sha256=None):
         self.state = state
         self.rows = rows
         self.n_chunks = n_chunks
         self.counters = counters or {name: kind(0) for name, kind in _COUNTERS.items()}
+        self.sha256 = list(sha256 or [])
 
 
 def save_checkpoint(path, ck: Checkpoint):
@@ -118,38 +159,100 @@ def save_checkpoint(path, ck: Checkpoint):
             n_events=np.int64(ck.state.n_events),
             rows=np.int64(ck.rows),
             n_chunks=np.int64(ck.n_chunks),
+            chunk_sha256=np.array(ck.sha256, dtype="U64").reshape(len(ck.sha256)),
             **{name: np.asarray(ck.counters[name]) for name in _COUNTERS},
         )
 
 
 def load_checkpoint(path) -> Checkpoint:
-    with np.load(path) as data:
-        state = State(
-            z=data["z"].copy(),
-            offset=float(data["offset"]),
-            w=float(data["w"]),
-            n_events=int(data["n_events"]),
+    """Read ``checkpoint.npz``; a truncated, empty or incomplete file is a CatalogError."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            state = State(
+                z=data["z"].copy(),
+                offset=float(data["offset"]),
+                w=float(data["w"]),
+                n_events=int(data["n_events"]),
+            )
+            counters = {name: kind(data[name]) for name, kind in _COUNTERS.items()}
+            sha = [str(h) for h in data["chunk_sha256"]]
+            ck = Checkpoint(state, int(data["rows"]), int(data["n_chunks"]), counters, sha)
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:
+        reason = (
+            "is empty"
+            if os.path.isfile(path) and os.path.getsize(path) == 0
+            else (f"is truncated or corrupt ({type(exc).__name__}: {exc})")
         )
-        counters = {name: kind(data[name]) for name, kind in _COUNTERS.items()}
-        return Checkpoint(state, int(data["rows"]), int(data["n_chunks"]), counters)
+        raise CatalogError(f"checkpoint {path} {reason}; {_restart_hint(path)}") from None
+    if len(ck.sha256) != ck.n_chunks or ck.rows != ck.state.n_events:
+        raise CatalogError(
+            f"checkpoint {path} is inconsistent ({ck.n_chunks} chunks, {len(ck.sha256)} "
+            f"checksums, {ck.rows} rows, state after {ck.state.n_events} events); "
+            f"{_restart_hint(path)}"
+        )
+    return ck
 
 
-def checkpoint_status(out) -> dict | None:
+def verify_chunks(wd, ck: Checkpoint) -> int:
+    """Check every committed chunk against its checksum, row count and event numbers.
+
+    Returns the total number of rows; raises CatalogError naming the first bad file.
+    """
+    import pyarrow.parquet as pq
+
+    total = 0
+    for i in range(ck.n_chunks):
+        path = chunk_path(wd, i)
+        try:
+            digest = sha256_file(path)
+        except OSError as exc:
+            raise CatalogError(
+                f"committed chunk {path} is missing or unreadable ({exc}); the run cannot "
+                f"resume exactly: {_restart_hint(path)}"
+            ) from None
+        if digest != ck.sha256[i]:
+            raise CatalogError(
+                f"committed chunk {path} does not match its checksum (sha256 {digest[:12]}..., "
+                f"recorded {ck.sha256[i][:12]}...): it was changed or damaged after it was "
+                f"written; {_restart_hint(path)}"
+            )
+        try:
+            events = pq.read_table(path, columns=["event"]).column("event").to_numpy()
+        except Exception as exc:
+            raise CatalogError(f"committed chunk {path} is unreadable ({exc})") from None
+        if not np.array_equal(events, np.arange(total, total + events.size)):
+            raise CatalogError(
+                f"committed chunk {path} does not hold events {total}..{total + events.size - 1}"
+                f" in order; {_restart_hint(path)}"
+            )
+        total += events.size
+    if total != ck.rows:
+        raise CatalogError(
+            f"checkpoint in {wd} covers {ck.rows} events but its chunks hold {total}; "
+            f"{_restart_hint(chunk_path(wd, 0))}"
+        )
+    return total
+
+
+def checkpoint_status(out, verify=False) -> dict | None:
     """Progress of an interrupted run of ``out`` (None if there is no checkpoint).
 
     Returns ``{"events_done", "n_events", "chunks", "run"}`` where ``run`` is the
-    content of ``run.json``.
+    content of ``run.json``.  A garbled ``run.json`` or ``checkpoint.npz`` is a
+    CatalogError; ``verify=True`` also checks the chunks (:func:`verify_chunks`).
     """
     wd = checkpoint_dir(out)
     if not os.path.isdir(wd):
         return None
     run_json = os.path.join(wd, "run.json")
-    run = read_json(run_json) if os.path.isfile(run_json) else {}
+    run = read_run_json(run_json) if os.path.isfile(run_json) else {}
     done = chunks = 0
     ck = os.path.join(wd, "checkpoint.npz")
     if os.path.isfile(ck):
         loaded = load_checkpoint(ck)
         done, chunks = loaded.rows, loaded.n_chunks
+        if verify:
+            verify_chunks(wd, loaded)
     return {"events_done": done, "n_events": run.get("n_events"), "chunks": chunks, "run": run}
 
 
@@ -178,38 +281,24 @@ def remove_checkpoint_dir(wd):
 def prepare_resume(wd, identity) -> Checkpoint | None:
     """Load and verify a checkpoint; discard chunks and temp files it does not cover."""
     run_json = os.path.join(wd, "run.json")
+    ck = os.path.join(wd, "checkpoint.npz")
     if os.path.isfile(run_json):
-        diffs = mismatch(read_json(run_json), identity)
+        diffs = mismatch(read_run_json(run_json), identity)
         if diffs:
             raise InvalidParameterError(
                 f"cannot resume {wd}: it is another run ({'; '.join(diffs)}). Rerun with the "
                 "original parameters, or pass force to discard the checkpoint"
             )
-    ck = os.path.join(wd, "checkpoint.npz")
+    elif os.path.isfile(ck) or any(_CHUNK_RE.fullmatch(n) for n in os.listdir(wd)):
+        raise CatalogError(
+            f"cannot resume {wd}: its run.json (the run's identity) is missing, so the "
+            f"committed events cannot be checked against this call; {_restart_hint(run_json)}"
+        )
     if not os.path.isfile(ck):
         _discard_uncommitted(wd, 0)
         return None
-    try:
-        loaded = load_checkpoint(ck)
-    except (OSError, ValueError, KeyError) as exc:
-        raise CatalogError(f"checkpoint {ck} is unreadable ({exc}); pass force to restart") from exc
-    import pyarrow.parquet as pq
-
-    total = 0
-    for i in range(loaded.n_chunks):
-        path = chunk_path(wd, i)
-        try:
-            total += pq.read_metadata(path).num_rows
-        except Exception as exc:
-            raise CatalogError(
-                f"committed chunk {path} is missing or corrupt ({exc}); the run cannot resume "
-                "exactly: pass force to restart it"
-            ) from exc
-    if total != loaded.rows:
-        raise CatalogError(
-            f"checkpoint {ck} covers {loaded.rows} events but its chunks hold {total}; "
-            "pass force to restart the run"
-        )
+    loaded = load_checkpoint(ck)
+    verify_chunks(wd, loaded)
     _discard_uncommitted(wd, loaded.n_chunks)
     return loaded
 

@@ -440,7 +440,7 @@ def cmd_info(args, out):
             raise InvalidParameterError(f"{path} is a sweep folder; use: faultnet summarize {path}")
         raise InvalidParameterError(f"{path} is a folder; give a .parquet catalog file")
     if not os.path.exists(path):
-        st = checkpoint_status(path)
+        st = checkpoint_status(path, verify=True)
         if st is not None:
             print(
                 f"{path}: interrupted run, {st['events_done']:,} of {st['n_events'] or '?':,} "

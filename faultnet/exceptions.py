@@ -18,6 +18,7 @@ __all__ = [
     "InvalidParameterError",
     "NumericalInstabilityError",
     "OutputExistsError",
+    "OutputLockedError",
     "SimulationError",
     "SweepError",
 ]
@@ -41,6 +42,10 @@ class ConfigError(InvalidParameterError):
 
 class OutputExistsError(InvalidParameterError, FileExistsError):
     """Refusing to overwrite an existing output (pass force / overwrite)."""
+
+
+class OutputLockedError(FaultnetError, RuntimeError):
+    """Another process holds the lock of an output; the message names it."""
 
 
 class CatalogError(FaultnetError, OSError):

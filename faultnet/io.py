@@ -61,6 +61,8 @@ __all__ = [
     "atomic_path",
     "atomic_write_bytes",
     "atomic_write_json",
+    "check_event_count",
+    "check_event_numbers",
     "events_to_table",
     "fsync_dir",
     "fsync_file",
@@ -73,6 +75,7 @@ __all__ = [
     "read_metadata",
     "tmp_name",
     "utc_now",
+    "verify_catalog",
     "write_catalog",
     "write_part",
 ]
@@ -269,6 +272,53 @@ def open_catalog_file(path):
 def read_metadata(path) -> dict:
     """The metadata dict of a catalog file, reading only its footer."""
     return _file_metadata(_check_catalog_file(path))[1]
+
+
+def check_event_count(path, md, n_rows):
+    """Refuse a catalog whose row count differs from the ``n_events`` of its metadata."""
+    want = md.get("n_events")
+    if isinstance(want, int) and n_rows != want:
+        raise CatalogError(
+            f"catalog {path} holds {n_rows} events but its metadata says {want}: it is "
+            "incomplete or was written by two runs at once; recompute it (--force)"
+        )
+
+
+def check_event_numbers(path, md, events, start):
+    """Check that ``events`` (a batch of the ``event`` column) continues ``start``; return next."""
+    first = int(md.get("first_event") or 0)
+    if not np.array_equal(events, np.arange(first + start, first + start + len(events))):
+        bad = int(
+            np.flatnonzero(events != np.arange(first + start, first + start + len(events)))[0]
+        )
+        raise CatalogError(
+            f"catalog {path} has event number {int(events[bad])} at row {start + bad} (expected "
+            f"{first + start + bad}): events are missing, duplicated or out of order; "
+            "recompute it (--force)"
+        )
+    return start + len(events)
+
+
+def verify_catalog(path) -> dict:
+    """Metadata of a catalog whose rows are exactly events ``first_event ..``, ``n_events`` of them.
+
+    Reads only the ``event`` column, one row group at a time.
+    """
+    path, md = open_catalog_file(path)
+    try:
+        pf = pq.ParquetFile(path)
+        check_event_count(path, md, pf.metadata.num_rows)
+        if "event" not in pf.schema_arrow.names:
+            raise CatalogError(f"catalog {path} has no 'event' column")
+        seen = 0
+        for i in range(pf.metadata.num_row_groups):
+            events = pf.read_row_group(i, columns=["event"]).column(0).to_numpy()
+            seen = check_event_numbers(path, md, events, seen)
+    except (OSError, pa.ArrowException) as exc:
+        if isinstance(exc, CatalogError):
+            raise
+        raise CatalogError(f"cannot read catalog {path}: {exc}") from exc
+    return md
 
 
 def _to_pandas(table):

@@ -43,10 +43,12 @@ from faultnet.checkpoint import (
     discard_tmp_outputs,
     mismatch,
     prepare_resume,
-    read_json,
+    read_run_json,
     remove_checkpoint_dir,
     run_identity,
     save_checkpoint,
+    sha256_file,
+    verify_chunks,
 )
 from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
 from faultnet.io import (
@@ -56,8 +58,10 @@ from faultnet.io import (
     provenance,
     read_metadata,
     utc_now,
+    verify_catalog,
     write_part,
 )
+from faultnet.lock import LOCK_SUFFIX, output_lock
 from faultnet.options import RunOptions
 
 __all__ = [
@@ -224,11 +228,18 @@ def simulate_to_parquet(
         raise InvalidParameterError(f"output folder {folder} does not exist")
     if os.path.isdir(out):
         raise OutputExistsError(f"{out} is a folder; give a file name for the catalog")
+    with output_lock(out + LOCK_SUFFIX, what=out):
+        return _start_or_resume(out, wd, rng, resume, force, step, job)
+
+
+def _start_or_resume(out, wd, rng, resume, force, step, job):
+    """The body of :func:`simulate_to_parquet` for a file output, run under its lock."""
+    model, n_events, options = job["model"], job["n_events"], job["options"]
     if resume and rng is None:
-        stored = stored_request(out)
-        if stored is not None:
+        stored = None if force else stored_request(out)
+        if stored is not None and stored.get("seed_entropy") is not None:
             rng = np.random.SeedSequence(
-                stored["seed_entropy"], spawn_key=tuple(stored["seed_spawn_key"])
+                stored["seed_entropy"], spawn_key=tuple(stored.get("seed_spawn_key") or ())
             )
     seq = seed_sequence(rng)
     identity = run_identity(model, n_events, step, options, seq)
@@ -265,7 +276,7 @@ def stored_request(out):
     """Seed (and request) of an earlier run of ``out``: from its checkpoint or the file."""
     run_json = os.path.join(checkpoint_dir(out), "run.json")
     if os.path.isfile(run_json):
-        return read_json(run_json)
+        return read_run_json(run_json)
     if os.path.isfile(out):
         try:
             return read_metadata(out)
@@ -275,7 +286,7 @@ def stored_request(out):
 
 
 def _complete_output(out, identity):
-    md = read_metadata(out)
+    md = verify_catalog(out)  # rows are events 0..n-1, as many as the metadata says
     diffs = mismatch(md, identity)
     if diffs:
         raise OutputExistsError(
@@ -317,10 +328,15 @@ class _Catalog:
             chunk_md = {"chunk": ck.n_chunks}
             if self.first_md.get("initial_state"):
                 chunk_md["initial_state"] = self.first_md["initial_state"]
-            write_part(events, chunk_path(self.wd, ck.n_chunks), chunk_md)
-            covering = Checkpoint(ck.state, ck.rows, ck.n_chunks + 1, ck.counters)
-            save_checkpoint(os.path.join(self.wd, "checkpoint.npz"), covering)
-            ck.n_chunks += 1
+            path = chunk_path(self.wd, ck.n_chunks)
+            ck_path = os.path.join(self.wd, "checkpoint.npz")
+            with _write_failure(path, ck_path, self.committed):
+                write_part(events, path, chunk_md)
+                sha = [*ck.sha256, sha256_file(path)]
+            covering = Checkpoint(ck.state, ck.rows, ck.n_chunks + 1, ck.counters, sha)
+            with _write_failure(ck_path, ck_path, self.committed):
+                save_checkpoint(ck_path, covering)
+            ck.n_chunks, ck.sha256 = ck.n_chunks + 1, sha
         self.committed += n
 
     def _see(self, events):
@@ -332,6 +348,22 @@ class _Catalog:
         )
 
 
+@contextlib.contextmanager
+def _write_failure(path, ck_path, committed, what="write"):
+    """Turn an OSError (a full disk, say) into a message naming the file and what is safe."""
+    try:
+        yield
+    except CatalogError:
+        raise
+    except OSError as exc:
+        out = os.path.dirname(ck_path)[: -len(CHECKPOINT_SUFFIX)]
+        raise CatalogError(
+            f"cannot {what} {path}: {exc.strerror or exc}. The checkpoint {ck_path} is intact "
+            f"({committed:,} events committed); free space (or fix the cause) and run "
+            f"'faultnet simulate --resume --out {out}' to continue"
+        ) from exc
+
+
 def _open_run(wd, identity, extra):
     """Create the checkpoint folder and its run.json (or read the existing one)."""
     if wd is None:
@@ -340,7 +372,7 @@ def _open_run(wd, identity, extra):
     os.makedirs(wd, exist_ok=True)
     run_json = os.path.join(wd, "run.json")
     if os.path.isfile(run_json):
-        return read_json(run_json), created
+        return read_run_json(run_json), created
     first_md = dict(identity, format=RUN_FORMAT, created=utc_now(), extra=extra or {})
     atomic_write_json(run_json, first_md)
     return first_md, created
@@ -403,7 +435,10 @@ def _run(*, model, n_events, out, wd, identity, seq, options, chunk_events, inte
         mags = np.concatenate(sink.mags) if sink.mags else np.zeros(0)
         return RunReport(None, md, status=status, magnitudes=mags, seen=sink.seen)
     chunks = [chunk_path(wd, i) for i in range(ck.n_chunks)]
-    merge_parts(chunks, out, md, overwrite=True)
+    ck_path = os.path.join(wd, "checkpoint.npz")
+    verify_chunks(wd, ck)  # checksums and event numbers of every chunk before the merge
+    with _write_failure(out, ck_path, ck.rows, what="merge the chunks into"):
+        merge_parts(chunks, out, md, overwrite=True)
     remove_checkpoint_dir(wd)
     return RunReport(out, md, status=status, resumed_from=resumed_from)
 
@@ -446,7 +481,11 @@ def run_from_spec(
     }
     stored = None
     if resume and out is not None:
-        stored = stored_request(os.fspath(out))
+        try:
+            stored = stored_request(os.fspath(out))
+        except CatalogError:
+            if not force:
+                raise
     if stored is not None:
         request = dict(stored.get("extra", {}).get("request") or stored.get("request") or {})
         conflicts = [

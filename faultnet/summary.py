@@ -26,7 +26,7 @@ import pyarrow.parquet as pq
 
 from faultnet import stats
 from faultnet.exceptions import CatalogError, FaultnetError
-from faultnet.io import open_catalog_file
+from faultnet.io import check_event_count, check_event_numbers, open_catalog_file
 
 __all__ = [
     "MAX_FIT_EVENTS",
@@ -143,10 +143,15 @@ def catalog_stats(path, transient=None, m_min=None, m_max=None, max_n=MAX_FIT_EV
         transient = int(md.get("transient") or 0)
     pf = pq.ParquetFile(path)
     n = pf.metadata.num_rows
+    check_event_count(path, md, n)
     t_first = t_last = float("nan")
     m_lo, m_hi, big = math.inf, -math.inf, 0
+    seen = 0
+    numbered = "n_events" in md and "event" in pf.schema_arrow.names
     try:
-        for batch in _row_groups(pf, ["t", "M", "n_blocks"]):
+        for batch in _row_groups(pf, ["t", "M", "n_blocks"] + (["event"] if numbered else [])):
+            if numbered:
+                seen = check_event_numbers(path, md, batch.column(3).to_numpy(), seen)
             t = batch.column(0).to_numpy()
             m = batch.column(1).to_numpy()
             if len(t) == 0:

@@ -9,8 +9,10 @@ far is recognised and resumed.
 
 >>> point_file_name(7, n_points=12)
 'part-00007.parquet'
->>> is_own_file("part-00007.parquet"), is_own_file("notes.txt")
-(True, False)
+>>> is_own_file("part-00007.parquet"), is_own_file("part-00007.parquet.lock")
+(True, True)
+>>> is_own_file("notes.txt")
+False
 """
 
 from __future__ import annotations
@@ -25,9 +27,11 @@ from faultnet.atomic import atomic_write_json, is_tmp_name
 from faultnet.checkpoint import CHECKPOINT_SUFFIX, checkpoint_dir, checkpoint_status
 from faultnet.exceptions import CatalogError, OutputExistsError
 from faultnet.io import read_metadata, utc_now
+from faultnet.lock import LOCK_SUFFIX
 
 __all__ = [
     "MANIFEST",
+    "SWEEP_LOCK",
     "SWEEP_FORMAT",
     "is_own_file",
     "point_file_name",
@@ -36,6 +40,8 @@ __all__ = [
 ]
 
 MANIFEST = "sweep.json"
+#: the lock file of a sweep folder (one sweep writes a folder at a time)
+SWEEP_LOCK = "sweep.lock"
 SWEEP_FORMAT = "faultnet-sweep"
 #: the catalog file of one point (the on-disk form of every sweep folder)
 _POINT_FILE_RE = re.compile(r"part-(\d+)\.parquet$")
@@ -49,10 +55,13 @@ def point_file_name(index, n_points):
 
 def is_own_file(name):
     """True for the names a sweep writes: manifest, point catalogs, checkpoints, temporaries."""
-    if name == MANIFEST or is_tmp_name(name):
+    if name in (MANIFEST, SWEEP_LOCK) or is_tmp_name(name):
         return True
-    base = name[: -len(CHECKPOINT_SUFFIX)] if name.endswith(CHECKPOINT_SUFFIX) else name
-    return bool(_POINT_FILE_RE.fullmatch(base))
+    for suffix in (CHECKPOINT_SUFFIX, LOCK_SUFFIX):
+        if name.endswith(suffix):
+            name = name[: -len(suffix)]
+            break
+    return bool(_POINT_FILE_RE.fullmatch(name))
 
 
 def _listing(names):
