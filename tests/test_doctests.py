@@ -11,6 +11,9 @@ MODULES = [
     "faultnet.engine",
     "faultnet.options",
     "faultnet._validate",
+    "faultnet.runner",
+    "faultnet.atomic",
+    "faultnet.summary",
     "faultnet.stats",
     "faultnet.dynamics",
 ]

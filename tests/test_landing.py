@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import faultnet
+from faultnet import default_dt
 from faultnet._kernels.context import LOC_NCAND, LOC_SIZE, LOC_THETA
 from faultnet._kernels.crossing import JOIN, STICK
 from faultnet._kernels.dopri import cache_boundary, dopri_step
@@ -31,7 +32,6 @@ from faultnet._kernels.landing import land, septic_coeffs
 from faultnet._kernels.local import _collect, _first_crossing, _listed
 from faultnet._kernels.stepping import activate, commit, touch
 from faultnet._kernels.tableau import N_WORK_DOPRI
-from faultnet import default_dt
 
 
 @nb.njit(cache=False)
