@@ -47,6 +47,10 @@ SOLO_FAST_PATH = True
 #: treatment's at the same dt (``tests/test_local.py``).  ``float("inf")``: always the
 #: exact whole-event treatment (the reference for tests).
 LOCAL_REGIONS_FROM = 32
+#: treatment of stops and joins inside a step (``faultnet.accuracy.CROSSINGS``): "exact"
+#: reaches each crossing and keeps the scheme's order; "interpolated" places them on the
+#: step's dense output without redoing the step (cheaper, an O(dt^4) error per crossing)
+CROSSINGS = "exact"
 #: RK4 is stable on an oscillator for omega*dt < 2.83; refuse steps near it
 _DT_STABILITY = 2.5
 #: initial displacements are drawn uniformly from [0, X0_AMPLITUDE)
@@ -84,6 +88,14 @@ def _check_method(method):
     if method not in METHODS:
         raise InvalidParameterError(f"method must be one of {sorted(METHODS)}; got {method!r}")
     return method
+
+
+def _crossings_code(crossings):
+    from faultnet.accuracy import CROSSINGS as codes
+
+    if crossings not in codes:
+        raise InvalidParameterError(f"crossings must be one of {sorted(codes)}; got {crossings!r}")
+    return codes[crossings]
 
 
 def _check_count(n_events):
@@ -237,7 +249,7 @@ class _Run:
             (n, K.N_WORK_DOPRI), dtype=np.float64
         )  # block-major: one block's rows share cache lines
         self.IW = np.zeros((K.N_IWORK, n), dtype=np.int64)
-        # dt, max duration, max velocity, solo fast path on, local regions from
+        # dt, max duration, max velocity, solo fast path on, local regions from, crossings
         self.ctrl = np.array(
             [
                 dt,
@@ -245,6 +257,7 @@ class _Run:
                 max_velocity,
                 float(SOLO_FAST_PATH),
                 float(LOCAL_REGIONS_FROM),
+                float(_crossings_code(CROSSINGS)),
             ],
             dtype=np.float64,
         )
