@@ -24,8 +24,8 @@ an independent confirmation of it).
 
 Run by hand (never a timed test)::
 
-    PYTHONPATH=. python benchmarks/yardstick.py W1 W4                       # ~1 minute per workload
-    PYTHONPATH=. python benchmarks/yardstick.py --events 100000 --rounds 3  # all six, the full table
+    PYTHONPATH=. python benchmarks/yardstick.py W1 W4            # about a minute per workload
+    PYTHONPATH=. python benchmarks/yardstick.py --events 100000 --rounds 3  # the full table
 """
 
 from __future__ import annotations
@@ -125,9 +125,7 @@ def _yard_S(clsim, graph, model, states, dt):
 
 
 def _fn_S(model, states, opts):
-    return np.array(
-        [float(_run_faultnet(model, st, 1, opts)[1].events.S.iloc[0]) for st in states]
-    )
+    return np.array([float(_run_faultnet(model, st, 1, opts)[1].events.S.iloc[0]) for st in states])
 
 
 def _p90(S, ref):

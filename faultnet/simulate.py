@@ -550,6 +550,7 @@ def _wrap(
         partial_block_steps=int(run.cnt[6]),
         region_block_steps=int(run.cnt[12]),
         landed_joins=int(run.cnt[13]),
+        interpolated_crossings=int(run.cnt[14]),
     )
     return SimulationResult(
         events=events,
