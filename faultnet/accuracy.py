@@ -13,42 +13,41 @@ Two crossing treatments (``faultnet._kernels``):
 - ``"interpolated"``: every full step is kept, and the crossings inside it are placed on its
   dense output (``faultnet._kernels.interp``): fourth order, far cheaper per crossing.
 
-``CALIBRATION`` holds the 90th-percentile error of the worst workload per step coefficient
-(step = coefficient / sqrt(omega2_max)), measured by::
+``CALIBRATION`` holds, per graph class (rings: W1-W3; 2-D graphs: W4-W6) and treatment, the
+90th-percentile error of the class's worst workload per step coefficient (step =
+coefficient / sqrt(omega2_max)), measured by::
 
     PYTHONPATH=. python benchmarks/calibrate.py      # 60 events per workload
 
-====== ============ ===================
-coef    exact        interpolated
-====== ============ ===================
-0.03                 1.4e-09
-0.05                 9.9e-09
-0.07                 4.6e-08
-0.10    1.1e-08      1.7e-07
-0.15    8.2e-08      6.7e-07
-0.20    3.3e-07      2.8e-06
-0.30    2.3e-06      9.9e-06
-0.40    7.7e-06      5.5e-05
-0.50    1.9e-05      1.2e-04
-0.60    3.7e-05      4.4e-04
-0.80    1.4e-04      4.9e-02
-====== ============ ===================
+====== ============ ============ ============ ============
+coef    ring exact   ring interp  2-D exact    2-D interp
+====== ============ ============ ============ ============
+0.03                 1.4e-09                   2.6e-10
+0.05                 9.9e-09                   2.1e-09
+0.07                 4.6e-08                   1.0e-08
+0.10    1.1e-08      1.7e-07      1.3e-09      2.5e-08
+0.15    8.2e-08      6.7e-07      9.5e-09      3.2e-07
+0.20    3.3e-07      2.8e-06      3.6e-08      4.7e-07
+0.30    2.3e-06      9.9e-06      2.2e-07      2.7e-06
+0.40    7.7e-06      5.5e-05      7.4e-07      1.0e-05
+0.50    1.9e-05      1.2e-04      1.7e-06      2.7e-05
+0.60    3.7e-05      4.4e-04      2.9e-06      5.8e-05
+0.80    1.4e-04      4.9e-02      5.2e-06      3.9e-04
+====== ============ ============ ============ ============
 
-The worst workload is a ring (W3 for "exact", W1-W3 for "interpolated"); the 2-D workloads
-are 3-10 times more accurate at the same coefficient.  For each treatment the coefficient is
-read off its column (log-log between the rows, the scheme's order below the first) at
-``rtol / SAFETY[treatment]``; the interpolated treatment is chosen when its step is at least
-``SWITCH`` times the exact one's (ring-like graphs 0.7, 2-D graphs 0.45: where it is then the
-faster, see ``benchmarks/NOTES.md``).  Resulting settings (coefficients):
+For each treatment the coefficient is read off its column (log-log between the rows, the
+scheme's order below the first) at ``rtol / SAFETY``; the interpolated treatment is chosen
+when its step is at least ``SWITCH`` times the exact one's (rings 0.7, 2-D graphs 0.45:
+where it is then the faster, see ``benchmarks/NOTES.md``).  Resulting settings:
 
 ========= ============================ ================================
 rtol       rings (mean degree <= 2.5)   2-D graphs
 ========= ============================ ================================
-1e-8       exact 0.094                  exact 0.094
-1e-7       exact 0.149                  exact 0.149
-1e-6       exact 0.241                  interpolated 0.112
-2e-5       exact 0.479                  interpolated 0.241
-1e-4       exact 0.709                  interpolated 0.350
+1e-8       exact 0.094                  exact 0.145
+1e-7       exact 0.149                  interpolated 0.112
+1e-6       exact 0.241                  interpolated 0.203
+2e-5       exact 0.479                  interpolated 0.400
+1e-4       exact 0.709                  interpolated 0.579
 ========= ============================ ================================
 """
 
@@ -59,50 +58,87 @@ from dataclasses import dataclass
 
 from faultnet.exceptions import InvalidParameterError
 
-__all__ = ["CALIBRATION", "CROSSINGS", "RTOL_RANGE", "StepChoice", "step_for_rtol"]
+__all__ = ["CALIBRATION", "CROSSINGS", "RTOL_RANGE", "StepChoice", "graph_class", "step_for_rtol"]
 
 #: kernel codes of the crossing treatments (``ctrl[5]``)
 CROSSINGS = {"exact": 0, "interpolated": 1}
 #: the calibrated range of rtol
 RTOL_RANGE = (1e-8, 1e-4)
-#: the target error is rtol / SAFETY[crossings]: the table's 90th percentiles come from 60
-#: events each; the interpolated treatment's error varies more between systems (a ring of 200
-#: blocks 3,000 events after a random start: 2.6e-6 at coefficient 0.155, against 6.7e-7 on
-#: W1; ``tests/test_accuracy.py``)
-SAFETY = {"exact": 1.25, "interpolated": 4.0}
+#: the target error is rtol / SAFETY[graph class][treatment]: the table's 90th percentiles come
+#: from 60 events each; on rings the interpolated treatment's error varies more between systems
+#: (a ring of 200 blocks 3,000 events after a random start: 2.6e-6 at coefficient 0.155,
+#: against 6.7e-7 on W1; ``tests/test_accuracy.py``), on 2-D graphs less (a periodic 12^2
+#: lattice: 1.4e-6 at 0.3, W4-W6 1.4e-6 to 2.7e-6; 1.0e-4 at 0.63)
+SAFETY = {
+    "ring": {"exact": 1.25, "interpolated": 4.0},
+    "2-D": {"exact": 1.25, "interpolated": 2.0},
+}
 #: use the interpolated treatment when its step is at least this fraction of the exact one's:
-#: on rings (mean degree <= 2.5) it costs about as much per step as the exact one at 0.7 of
-#: its step (W1: 24-29k against 26-29k events/s), on 2-D graphs far less (W4 at 0.69 of the
-#: exact step: 31k against 11k; 236 against 403 block-steps per event)
+#: on rings it costs about as much per step as the exact one at 0.7 of its step (W1: 24-29k
+#: against 26-29k events/s), on 2-D graphs far less (W4 at 0.69 of the exact step: 31k against
+#: 11k events/s; 236 against 403 block-steps per event)
 SWITCH = {"ring": 0.7, "2-D": 0.45}
 #: order of the S error in the step, used below the first row of the table
 ORDER = {"exact": 5.0, "interpolated": 4.0}
-#: (coefficient, 90th-percentile S error of the worst workload), ``benchmarks/calibrate.py``
+#: (coefficient, 90th-percentile S error of the worst workload of the class), from
+#: ``benchmarks/calibrate.py``: rings W1-W3, 2-D graphs W4-W6
 CALIBRATION = {
-    "exact": (
-        (0.1, 1.1e-08),
-        (0.15, 8.2e-08),
-        (0.2, 3.3e-07),
-        (0.3, 2.3e-06),
-        (0.4, 7.7e-06),
-        (0.5, 1.9e-05),
-        (0.6, 3.7e-05),
-        (0.8, 1.4e-04),
-    ),
-    "interpolated": (
-        (0.03, 1.4e-09),
-        (0.05, 9.9e-09),
-        (0.07, 4.6e-08),
-        (0.1, 1.7e-07),
-        (0.15, 6.7e-07),
-        (0.2, 2.8e-06),
-        (0.3, 9.9e-06),
-        (0.4, 5.5e-05),
-        (0.5, 1.2e-04),
-        (0.6, 4.4e-04),
-        (0.8, 4.9e-02),
-    ),
+    "ring": {
+        "exact": (
+            (0.1, 1.1e-08),
+            (0.15, 8.2e-08),
+            (0.2, 3.3e-07),
+            (0.3, 2.3e-06),
+            (0.4, 7.7e-06),
+            (0.5, 1.9e-05),
+            (0.6, 3.7e-05),
+            (0.8, 1.4e-04),
+        ),
+        "interpolated": (
+            (0.03, 1.4e-09),
+            (0.05, 9.9e-09),
+            (0.07, 4.6e-08),
+            (0.1, 1.7e-07),
+            (0.15, 6.7e-07),
+            (0.2, 2.8e-06),
+            (0.3, 9.9e-06),
+            (0.4, 5.5e-05),
+            (0.5, 1.2e-04),
+            (0.6, 4.4e-04),
+            (0.8, 4.9e-02),
+        ),
+    },
+    "2-D": {
+        "exact": (
+            (0.1, 1.3e-09),
+            (0.15, 9.5e-09),
+            (0.2, 3.6e-08),
+            (0.3, 2.2e-07),
+            (0.4, 7.4e-07),
+            (0.5, 1.7e-06),
+            (0.6, 2.9e-06),
+            (0.8, 5.2e-06),
+        ),
+        "interpolated": (
+            (0.03, 2.6e-10),
+            (0.05, 2.1e-09),
+            (0.07, 1.0e-08),
+            (0.1, 2.5e-08),
+            (0.15, 3.2e-07),
+            (0.2, 4.7e-07),
+            (0.3, 2.7e-06),
+            (0.4, 1.0e-05),
+            (0.5, 2.7e-05),
+            (0.6, 5.8e-05),
+            (0.8, 3.9e-04),
+        ),
+    },
 }
+
+
+def graph_class(model):
+    """ "ring" for graphs of mean degree <= 2.5 (rings, chains), else "2-D"."""
+    return "ring" if model.adjacency.nnz <= 2.5 * model.n else "2-D"
 
 
 @dataclass(frozen=True)
@@ -127,9 +163,9 @@ class StepChoice:
     method: str = "dopri5"
 
 
-def _coefficient(crossings, target):
+def _coefficient(cls, crossings, target):
     """Largest coefficient whose calibrated error is <= target (log-log between the rows)."""
-    rows = CALIBRATION[crossings]
+    rows = CALIBRATION[cls][crossings]
     c0, e0 = rows[0]
     if target <= e0:
         return c0 * (target / e0) ** (1.0 / ORDER[crossings])
@@ -168,8 +204,9 @@ def step_for_rtol(model, rtol, method="dopri5"):
     >>> lattice = faultnet.CarlsonLanger(grid, k=16, sigma=0.01, alpha=1.0)
     >>> s = step_for_rtol(lattice, 2e-5)
     >>> s.crossings, round(s.coefficient, 3)
-    ('interpolated', 0.241)
-    >>> step_for_rtol(lattice, 1e-8).crossings
+    ('interpolated', 0.4)
+    >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16, sigma=0.01, alpha=1.0)
+    >>> step_for_rtol(ring, 2e-5).crossings
     'exact'
     >>> step_for_rtol(lattice, 1e-3)
     Traceback (most recent call last):
@@ -190,8 +227,9 @@ def step_for_rtol(model, rtol, method="dopri5"):
         raise InvalidParameterError(
             f"rtol must be between {RTOL_RANGE[0]:g} and {RTOL_RANGE[1]:g}; got {rtol!r}"
         )
-    exact = _coefficient("exact", rtol / SAFETY["exact"])
-    interp = _coefficient("interpolated", rtol / SAFETY["interpolated"])
-    switch = SWITCH["ring" if model.adjacency.nnz <= 2.5 * model.n else "2-D"]
+    cls = graph_class(model)
+    exact = _coefficient(cls, "exact", rtol / SAFETY[cls]["exact"])
+    interp = _coefficient(cls, "interpolated", rtol / SAFETY[cls]["interpolated"])
+    switch = SWITCH[cls]
     crossings, coef = ("interpolated", interp) if interp >= switch * exact else ("exact", exact)
     return StepChoice(coef / math.sqrt(omega2_max(model)), coef, crossings, method)
