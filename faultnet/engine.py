@@ -174,7 +174,7 @@ class Simulator:
                 "sim.state for another graph"
             )
         dt = self._options.step(model)
-        self._arrays.set_parameters(model, dt)
+        self._arrays.set_parameters(model, dt, self._options.crossings_code(model))
         self._model, self._dt = model, dt
 
     # -- running -----------------------------------------------------------------------------
@@ -270,10 +270,11 @@ class Simulator:
         return time.perf_counter() - t0, steps, block_steps
 
 
-def run_options(options=None, dt=None, method=None) -> RunOptions:
-    """``options`` with the ``dt`` and ``method`` shortcuts applied (None: unchanged)."""
+def run_options(options=None, dt=None, method=None, rtol=None) -> RunOptions:
+    """``options`` with the ``dt``, ``method`` and ``rtol`` shortcuts applied (None: unchanged)."""
     opts = RunOptions.coerce(options)
-    changes = {k: v for k, v in (("dt", dt), ("method", method)) if v is not None}
+    shortcuts = (("dt", dt), ("method", method), ("rtol", rtol))
+    changes = {k: v for k, v in shortcuts if v is not None}
     return opts.replace(**changes) if changes else opts
 
 
@@ -287,6 +288,7 @@ def simulate(
     *,
     options=None,
     method=None,
+    rtol=None,
     record_slips=False,
     record_profiles=False,
     trace_nodes=None,
@@ -320,6 +322,10 @@ def simulate(
         local regions, guards); recorded in ``metadata["options"]``.
     method : {"dopri5", "rk4"}, optional
         Shortcut for ``options.method``.
+    rtol : float, optional
+        Shortcut for ``options.rtol``: the target relative accuracy of an
+        event's slip (1e-8 to 1e-4); the step and the crossing treatment
+        follow from the calibration in :mod:`faultnet.accuracy`.
     record_slips : bool
         Keep per-block slips of every event (``result.slips``), at most
         ``max_slip_rows`` rows (then recording stops with a warning and
@@ -351,7 +357,7 @@ def simulate(
         model,
         x0,
         rng,
-        run_options(options, dt, method),
+        run_options(options, dt, method, rtol),
         record_slips=record_slips,
         trace_nodes=trace_nodes,
         max_slip_rows=max_slip_rows,

@@ -17,6 +17,7 @@ from faultnet._kernels.layout import (
     CNT_SLIP_ROWS,
     CNT_TRACE_FULL,
     CNT_TRACE_ROWS,
+    CTRL_CROSSINGS,
     CTRL_DT,
     CTRL_LOCAL_FROM,
     CTRL_MAX_DURATION,
@@ -202,20 +203,25 @@ class KernelArrays:
         rows = max_trace_rows if trace_idx.size else 0
         self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
         self.profiles = np.zeros((0, 0), dtype=np.float64)
-        self.set_parameters(model, dt)
+        self.set_parameters(model, dt, options.crossings_code(model))
 
     def _slip_buffers(self, cap):
         self.slip_e = np.zeros(cap, dtype=np.int64)
         self.slip_n = np.zeros(cap, dtype=np.int64)
         self.slip_v = np.zeros(cap, dtype=np.float64)
 
-    def set_parameters(self, model, dt):
-        """Per-block parameters of ``model``, a fresh solo cache and keys consistent with z."""
+    def set_parameters(self, model, dt, crossings=0):
+        """Per-block parameters of ``model``, a fresh solo cache and keys consistent with z.
+
+        ``dt`` and ``crossings`` (the kernel code of the crossing treatment) may
+        follow the model: both come from :meth:`RunOptions.step` / ``treatment``.
+        """
         self.kval = model.adjacency.data.astype(np.float64)
         self.diag = model.stiffness.astype(np.float64)
         self.oms = 1.0 - model.sigma_values
         self.cfr = 2.0 * model.alpha_values / self.oms
         self.ctrl[CTRL_DT] = dt
+        self.ctrl[CTRL_CROSSINGS] = float(crossings)
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
         self.cls = model.block_classes
         self.solo = np.full((int(self.cls.max()) + 1, 3), np.nan)

@@ -30,7 +30,7 @@ import numpy as np
 from faultnet._validate import check_int, check_positive
 from faultnet.exceptions import InvalidParameterError
 
-__all__ = ["DT_COEFFICIENT", "METHODS", "RunOptions", "default_dt", "omega2_max"]
+__all__ = ["CROSSINGS", "DT_COEFFICIENT", "METHODS", "RunOptions", "default_dt", "omega2_max"]
 
 #: integration schemes inside events, and their kernel codes
 METHODS = {"rk4": 0, "dopri5": 1}
@@ -38,6 +38,8 @@ METHODS = {"rk4": 0, "dopri5": 1}
 DT_COEFFICIENT = {"rk4": 0.08, "dopri5": 0.3}
 #: RK4 is stable on an oscillator for omega*dt < 2.83; steps near it are refused
 DT_STABILITY = 2.5
+#: crossing treatments and their kernel codes (``faultnet._kernels.layout.CTRL_CROSSINGS``)
+CROSSINGS = {"exact": 0, "interpolated": 1}
 #: an event may take at most this many steps of ``dt`` (``max_event_duration / dt``)
 MAX_STEPS_PER_EVENT = 1e9
 
@@ -84,8 +86,19 @@ class RunOptions:
         Scheme inside events: fixed-step Dormand-Prince 5(4) (default) or
         classical RK4.  Both locate stick and join instants inside a step.
     dt : float or None
-        Integration step inside events; None: :func:`default_dt` of the model
-        and method.
+        Integration step inside events; it overrides ``rtol``.  None: from
+        ``rtol`` when given, else :func:`default_dt` of the model and method.
+    rtol : float or None
+        Target relative accuracy of an event's slip (1e-8 to 1e-4, dopri5):
+        the step and the crossing treatment come from the calibration of
+        :func:`faultnet.accuracy.step_for_rtol` (the 90th percentile of the
+        relative S error of typical multi-block events is within rtol).
+    crossings : {"exact", "interpolated"} or None
+        Treatment of stops (v -> 0) and joins (F -> 1) inside a step:
+        ``"exact"`` redoes the step to each crossing and keeps the scheme's
+        order; ``"interpolated"`` (dopri5) places them on the step's dense
+        output and never redoes a step (fourth order, cheaper on lattices).
+        None: the calibration's choice with ``rtol``, else ``"exact"``.
     solo_cache : bool
         An event whose hypocentre slips alone depends only on that block's
         stiffness, sigma and alpha: integrate it once per such parameter class
@@ -106,6 +119,8 @@ class RunOptions:
 
     method: str = "dopri5"
     dt: float | None = None
+    rtol: float | None = None
+    crossings: str | None = None
     solo_cache: bool = True
     local_regions_from: float = 32
     max_event_duration: float = 1e4
@@ -115,6 +130,25 @@ class RunOptions:
         _check_method(self.method)
         if self.dt is not None:
             object.__setattr__(self, "dt", check_positive("dt", self.dt))
+        if self.rtol is not None:
+            from faultnet.accuracy import RTOL_RANGE
+
+            rtol = check_positive("rtol", self.rtol)
+            if not RTOL_RANGE[0] <= rtol <= RTOL_RANGE[1]:
+                raise InvalidParameterError(
+                    f"rtol must be between {RTOL_RANGE[0]:g} and {RTOL_RANGE[1]:g}; got {rtol!r}"
+                )
+            if self.method != "dopri5":
+                raise InvalidParameterError(
+                    "rtol is calibrated for method 'dopri5'; use dt with rk4"
+                )
+            object.__setattr__(self, "rtol", rtol)
+        if self.crossings is not None and self.crossings not in CROSSINGS:
+            raise InvalidParameterError(
+                f"crossings must be one of {sorted(CROSSINGS)} or None; got {self.crossings!r}"
+            )
+        if self.crossings == "interpolated" and self.method != "dopri5":
+            raise InvalidParameterError("crossings='interpolated' needs method 'dopri5'")
         if not isinstance(self.solo_cache, bool | np.bool_):
             raise InvalidParameterError(
                 f"solo_cache must be True or False; got {self.solo_cache!r}"
@@ -134,7 +168,12 @@ class RunOptions:
         than 10^9 steps for an event of ``max_event_duration``, is refused.
         """
         limit = DT_STABILITY / math.sqrt(omega2_max(model))
-        dt = default_dt(model, self.method) if self.dt is None else self.dt
+        if self.dt is not None:
+            dt = self.dt
+        elif self.rtol is not None:
+            dt = self._calibrated(model).dt
+        else:
+            dt = default_dt(model, self.method)
         if dt > limit:
             raise InvalidParameterError(
                 f"dt={dt:g} is beyond the RK4 stability limit {limit:.4g} of this model "
@@ -150,6 +189,23 @@ class RunOptions:
                 f"{default_dt(model, self.method):.4g})"
             )
         return dt
+
+    def _calibrated(self, model):
+        from faultnet.accuracy import step_for_rtol
+
+        return step_for_rtol(model, self.rtol, self.method)
+
+    def treatment(self, model) -> str:
+        """The crossing treatment of a run of ``model``: ``"exact"`` or ``"interpolated"``."""
+        if self.crossings is not None:
+            return self.crossings
+        if self.rtol is not None and self.dt is None:
+            return self._calibrated(model).crossings
+        return "exact"
+
+    def crossings_code(self, model) -> int:
+        """The kernel code of :meth:`treatment` (``faultnet._kernels.layout.CTRLCROSSINGS``)."""
+        return CROSSINGS[self.treatment(model)]
 
     def replace(self, **changes) -> RunOptions:
         """A copy with ``changes`` applied (and validated)."""

@@ -12,6 +12,7 @@ import warnings
 import numpy as np
 
 from faultnet._kernels.layout import (
+    CNT_INTERPOLATED_CROSSINGS,
     CNT_LANDED_JOINS,
     CNT_LOCAL_FALLBACKS,
     CNT_LOCAL_STEPS,
@@ -56,6 +57,7 @@ _COUNTERS = {
     "partial_block_steps": CNT_PARTIAL_BLOCK_STEPS,
     "region_block_steps": CNT_REGION_BLOCK_STEPS,
     "landed_joins": CNT_LANDED_JOINS,
+    "interpolated_crossings": CNT_INTERPOLATED_CROSSINGS,
 }
 
 
@@ -65,6 +67,7 @@ def run_metadata(model, options, dt, seq) -> dict:
     md.update(
         dt=dt,
         method=options.method,
+        crossings=options.treatment(model),
         options=options.to_dict(),
         faultnet_version=__version__,
         seed_entropy=None if seq is None else seq.entropy,

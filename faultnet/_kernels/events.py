@@ -22,6 +22,9 @@ cnt   meaning
 9     steps whose crossings were handled in local regions
 10    local steps that fell back to the whole-event treatment
 11    id counter of local regions (never reset)
+12    block-steps inside local regions
+13    joins landed on a step's interpolant
+14    crossings placed on a step's dense output (``ctrl[5] == 1``, ``interp.py``)
 ====  =========================================================
 """
 
@@ -54,6 +57,7 @@ from faultnet._kernels.integrate import (
     V,
     accel,
 )
+from faultnet._kernels.interp import interpolated_crossings
 from faultnet._kernels.jit import entry, inline_kernel, kernel
 from faultnet._kernels.local import local_step
 from faultnet._kernels.stepping import (
@@ -203,7 +207,7 @@ def _solo_slip(
     W[i, A] = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
     # work counters: a cached solo slip is set-up, not part of any event (so
     # a run's counters do not depend on how it was cut into calls)
-    c4, c6, c7, c13 = cnt[4], cnt[6], cnt[7], cnt[13]
+    c4, c6, c7, c13, c14 = cnt[4], cnt[6], cnt[7], cnt[13], cnt[14]
     one = np.int64(1)  # not the literal 1: _integrate keeps one compiled signature
     status, t, n, _ = _integrate(
         method,
@@ -228,7 +232,7 @@ def _solo_slip(
         trace_buf,
         cnt,
     )
-    cnt[4], cnt[6], cnt[7], cnt[13] = c4, c6, c7, c13
+    cnt[4], cnt[6], cnt[7], cnt[13], cnt[14] = c4, c6, c7, c13, c14
     s = W[i, D]
     W[i, D] = 0.0
     W[i, P] = 0.0
@@ -316,12 +320,14 @@ def _integrate(
     zero = nsteps - nsteps  # int64, not a literal: one compiled signature per kernel
     n_blocks = W.shape[0]
     h_local = dt  # outer step with local regions: shorter when crossings are dense
+    # crossings placed on the step's dense output (interp.py), never a step redone
+    interp = method == 1 and ctrl[5] > 0.0
     while nact > 0:
-        local = method == 1 and nact >= n_local and 4 * nact < n_blocks
+        local = method == 1 and not interp and nact >= n_local and 4 * nact < n_blocks
         h = h_local if local else dt
         scan = zero + 1
-        if local:
-            scan += 1  # list the crossings for the local regions
+        if local or interp:
+            scan += 1  # list the crossings for the local regions or the interpolated ones
             loc[LOC_NCAND] = 0.0
         th, who, kind, status = step_scan(
             method, h, zero, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, scan, loc
@@ -335,6 +341,11 @@ def _integrate(
             t += h
             if local:
                 h_local = min(dt, 2.0 * h_local)
+        elif interp and loc[LOC_NCAND] >= 0.0:
+            nact, ntouch = interpolated_crossings(
+                h, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, loc, cnt
+            )
+            t += h
         else:
             done = False
             if local:

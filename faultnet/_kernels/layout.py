@@ -11,6 +11,7 @@ The Python layer reads and writes these arrays only through the names here.
 __all__ = [
     "CNT_BLOCK_STEPS",
     "CNT_EVENTS",
+    "CNT_INTERPOLATED_CROSSINGS",
     "CNT_LANDED_JOINS",
     "CNT_LOCAL_FALLBACKS",
     "CNT_LOCAL_STEPS",
@@ -22,6 +23,7 @@ __all__ = [
     "CNT_STEPS",
     "CNT_TRACE_FULL",
     "CNT_TRACE_ROWS",
+    "CTRL_CROSSINGS",
     "CTRL_DT",
     "CTRL_LOCAL_FROM",
     "CTRL_MAX_DURATION",
@@ -40,7 +42,8 @@ CTRL_MAX_DURATION = 1  #: longest allowed event (time units)
 CTRL_MAX_VELOCITY = 2  #: fastest allowed block velocity
 CTRL_SOLO_CACHE = 3  #: 1.0: reuse cached solo slips; 0.0: integrate every event
 CTRL_LOCAL_FROM = 4  #: slipping blocks from which crossings are handled in local regions
-CTRL_SIZE = 5
+CTRL_CROSSINGS = 5  #: 0: exact crossings (steps redone to them); 1: interpolated (never redone)
+CTRL_SIZE = 6
 
 SCAL_OFFSET = 0  #: integer-valued frame offset
 SCAL_W = 1  #: plate position minus the offset
@@ -58,6 +61,7 @@ CNT_LOCAL_STEPS = 9  #: steps whose crossings were handled in local regions
 CNT_LOCAL_FALLBACKS = 10  #: local steps handed back to the whole-event treatment
 CNT_REGION_BLOCK_STEPS = 12  #: block-steps inside local regions
 CNT_LANDED_JOINS = 13  #: joins landed on a step's interpolant
+CNT_INTERPOLATED_CROSSINGS = 14  #: stops and joins placed on a step's dense output
 CNT_SIZE = 16
 
 OUT_HYPOCENTER = 4  #: block index of the last event's hypocentre

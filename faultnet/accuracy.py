@@ -1,0 +1,234 @@
+"""The accuracy knob: from a target relative error of an event's slip to the integration settings.
+
+``rtol`` is the target relative accuracy of an event's slip S: at the settings
+:func:`step_for_rtol` returns, the 90th percentile of ``|S / S_true - 1|`` over typical
+multi-block events is at most ``rtol`` on every benchmark workload (W1-W6 of
+``benchmarks/run.py``: rings of 2,000 blocks at alpha 1, 2, 0.25; the periodic 150^2
+lattice; the square and triangular critical percolation clusters).
+
+Two crossing treatments (``faultnet._kernels``):
+
+- ``"exact"``: every stop and join is reached by the scheme itself (partial steps, landings,
+  local regions), so events keep the fifth order of the DP5 steps;
+- ``"interpolated"``: every full step is kept, and the crossings inside it are placed on its
+  dense output (``faultnet._kernels.interp``): fourth order, far cheaper per crossing.
+
+``CALIBRATION`` holds, per graph class (rings: W1-W3; 2-D graphs: W4-W6) and treatment, the
+90th-percentile error of the class's worst workload per step coefficient (step =
+coefficient / sqrt(omega2_max)), measured by::
+
+    PYTHONPATH=. python benchmarks/calibrate.py      # 60 events per workload
+
+====== ============ ============ ============ ============
+coef    ring exact   ring interp  2-D exact    2-D interp
+====== ============ ============ ============ ============
+0.03                 1.4e-09                   2.6e-10
+0.05                 9.9e-09                   2.1e-09
+0.07                 4.6e-08                   1.0e-08
+0.10    1.1e-08      1.7e-07      1.3e-09      2.5e-08
+0.15    8.2e-08      6.7e-07      9.5e-09      3.2e-07
+0.20    3.3e-07      2.8e-06      3.6e-08      4.7e-07
+0.30    2.3e-06      9.9e-06      2.2e-07      2.7e-06
+0.40    7.7e-06      5.5e-05      7.4e-07      1.0e-05
+0.50    1.9e-05      1.2e-04      1.7e-06      2.7e-05
+0.60    3.7e-05      4.4e-04      2.9e-06      5.8e-05
+0.80    1.4e-04      4.9e-02      5.2e-06      3.9e-04
+====== ============ ============ ============ ============
+
+For each treatment the coefficient is read off its column (log-log between the rows, the
+scheme's order below the first) at ``rtol / SAFETY``; the interpolated treatment is chosen
+when its step is at least ``SWITCH`` times the exact one's (rings 0.7, 2-D graphs 0.45:
+where it is then the faster, see ``benchmarks/NOTES.md``).  Resulting settings:
+
+========= ============================ ================================
+rtol       rings (mean degree <= 2.5)   2-D graphs
+========= ============================ ================================
+1e-8       exact 0.094                  exact 0.145
+1e-7       exact 0.149                  interpolated 0.112
+1e-6       exact 0.241                  interpolated 0.203
+2e-5       exact 0.479                  interpolated 0.400
+1e-4       exact 0.709                  interpolated 0.579
+========= ============================ ================================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from faultnet.exceptions import InvalidParameterError
+from faultnet.options import CROSSINGS
+
+__all__ = ["CALIBRATION", "CROSSINGS", "RTOL_RANGE", "StepChoice", "graph_class", "step_for_rtol"]
+
+#: the calibrated range of rtol
+RTOL_RANGE = (1e-8, 1e-4)
+#: the target error is rtol / SAFETY[graph class][treatment]: the table's 90th percentiles come
+#: from 60 events each; on rings the interpolated treatment's error varies more between systems
+#: (a ring of 200 blocks 3,000 events after a random start: 2.6e-6 at coefficient 0.155,
+#: against 6.7e-7 on W1; ``tests/test_accuracy.py``), on 2-D graphs less (a periodic 12^2
+#: lattice: 1.4e-6 at 0.3, W4-W6 1.4e-6 to 2.7e-6; 1.0e-4 at 0.63)
+SAFETY = {
+    "ring": {"exact": 1.25, "interpolated": 4.0},
+    "2-D": {"exact": 1.25, "interpolated": 2.0},
+}
+#: use the interpolated treatment when its step is at least this fraction of the exact one's:
+#: on rings it costs about as much per step as the exact one at 0.7 of its step (W1: 24-29k
+#: against 26-29k events/s), on 2-D graphs far less (W4 at 0.69 of the exact step: 31k against
+#: 11k events/s; 236 against 403 block-steps per event)
+SWITCH = {"ring": 0.7, "2-D": 0.45}
+#: order of the S error in the step, used below the first row of the table
+ORDER = {"exact": 5.0, "interpolated": 4.0}
+#: (coefficient, 90th-percentile S error of the worst workload of the class), from
+#: ``benchmarks/calibrate.py``: rings W1-W3, 2-D graphs W4-W6
+CALIBRATION = {
+    "ring": {
+        "exact": (
+            (0.1, 1.1e-08),
+            (0.15, 8.2e-08),
+            (0.2, 3.3e-07),
+            (0.3, 2.3e-06),
+            (0.4, 7.7e-06),
+            (0.5, 1.9e-05),
+            (0.6, 3.7e-05),
+            (0.8, 1.4e-04),
+        ),
+        "interpolated": (
+            (0.03, 1.4e-09),
+            (0.05, 9.9e-09),
+            (0.07, 4.6e-08),
+            (0.1, 1.7e-07),
+            (0.15, 6.7e-07),
+            (0.2, 2.8e-06),
+            (0.3, 9.9e-06),
+            (0.4, 5.5e-05),
+            (0.5, 1.2e-04),
+            (0.6, 4.4e-04),
+            (0.8, 4.9e-02),
+        ),
+    },
+    "2-D": {
+        "exact": (
+            (0.1, 1.3e-09),
+            (0.15, 9.5e-09),
+            (0.2, 3.6e-08),
+            (0.3, 2.2e-07),
+            (0.4, 7.4e-07),
+            (0.5, 1.7e-06),
+            (0.6, 2.9e-06),
+            (0.8, 5.2e-06),
+        ),
+        "interpolated": (
+            (0.03, 2.6e-10),
+            (0.05, 2.1e-09),
+            (0.07, 1.0e-08),
+            (0.1, 2.5e-08),
+            (0.15, 3.2e-07),
+            (0.2, 4.7e-07),
+            (0.3, 2.7e-06),
+            (0.4, 1.0e-05),
+            (0.5, 2.7e-05),
+            (0.6, 5.8e-05),
+            (0.8, 3.9e-04),
+        ),
+    },
+}
+
+
+def graph_class(model):
+    """ "ring" for graphs of mean degree <= 2.5 (rings, chains), else "2-D"."""
+    return "ring" if model.adjacency.nnz <= 2.5 * model.n else "2-D"
+
+
+@dataclass(frozen=True)
+class StepChoice:
+    """Integration settings for one accuracy.
+
+    Attributes
+    ----------
+    dt : float
+        The step inside events (``simulate(..., dt=)``).
+    coefficient : float
+        ``dt * sqrt(omega2_max(model))``.
+    crossings : {"exact", "interpolated"}
+        The treatment of stops and joins (kernel ``ctrl[5]``: :data:`CROSSINGS`).
+    method : str
+        The scheme ("dopri5": the calibration is for it).
+    """
+
+    dt: float
+    coefficient: float
+    crossings: str
+    method: str = "dopri5"
+
+
+def _coefficient(cls, crossings, target):
+    """Largest coefficient whose calibrated error is <= target (log-log between the rows)."""
+    rows = CALIBRATION[cls][crossings]
+    c0, e0 = rows[0]
+    if target <= e0:
+        return c0 * (target / e0) ** (1.0 / ORDER[crossings])
+    best = c0
+    for (c1, e1), (c2, e2) in zip(rows[:-1], rows[1:], strict=True):
+        if target >= e2:
+            best = c2
+            continue
+        f = math.log(target / e1) / math.log(e2 / e1)
+        return c1 * (c2 / c1) ** f
+    return best
+
+
+def step_for_rtol(model, rtol, method="dopri5"):
+    """Integration settings whose typical event slip is within ``rtol`` (relative).
+
+    Parameters
+    ----------
+    model : CarlsonLanger
+        Sets the step's scale, ``1 / sqrt(omega2_max(model))``.
+    rtol : float
+        Target relative error of an event's slip S (90th percentile over multi-block
+        events), between 1e-8 and 1e-4.
+    method : {"dopri5"}
+        The calibrated scheme.
+
+    Returns
+    -------
+    StepChoice
+
+    Examples
+    --------
+    >>> import faultnet
+    >>> from faultnet.accuracy import step_for_rtol
+    >>> grid = faultnet.graphs.square_lattice(12, 12, periodic=True)
+    >>> lattice = faultnet.CarlsonLanger(grid, k=16, sigma=0.01, alpha=1.0)
+    >>> s = step_for_rtol(lattice, 2e-5)
+    >>> s.crossings, round(s.coefficient, 3)
+    ('interpolated', 0.4)
+    >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16, sigma=0.01, alpha=1.0)
+    >>> step_for_rtol(ring, 2e-5).crossings
+    'exact'
+    >>> step_for_rtol(lattice, 1e-3)
+    Traceback (most recent call last):
+    ...
+    faultnet.exceptions.InvalidParameterError: rtol must be between 1e-08 and 0.0001; got 0.001
+    """
+    from faultnet.options import omega2_max
+
+    if method != "dopri5":
+        raise InvalidParameterError(
+            f"step_for_rtol is calibrated for method 'dopri5'; got {method!r}"
+        )
+    try:
+        rtol = float(rtol)
+    except (TypeError, ValueError):
+        raise InvalidParameterError(f"rtol must be a number; got {rtol!r}") from None
+    if not (RTOL_RANGE[0] <= rtol <= RTOL_RANGE[1]):
+        raise InvalidParameterError(
+            f"rtol must be between {RTOL_RANGE[0]:g} and {RTOL_RANGE[1]:g}; got {rtol!r}"
+        )
+    cls = graph_class(model)
+    exact = _coefficient(cls, "exact", rtol / SAFETY[cls]["exact"])
+    interp = _coefficient(cls, "interpolated", rtol / SAFETY[cls]["interpolated"])
+    switch = SWITCH[cls]
+    crossings, coef = ("interpolated", interp) if interp >= switch * exact else ("exact", exact)
+    return StepChoice(coef / math.sqrt(omega2_max(model)), coef, crossings, method)

@@ -1,0 +1,93 @@
+"""The accuracy knob: at the settings of ``step_for_rtol`` typical slips are within rtol.
+
+The reference is the exact crossing treatment without local regions at 1/16 of the
+default step (fifth order: about 1e-12 relative on these events).  A ring of 200 blocks
+at alpha 1 (the workloads' ring, smaller) and a periodic 12^2 lattice, 24 consecutive
+multi-block events each, every event run alone from its own pre-event state.
+"""
+
+import numpy as np
+import pytest
+
+import faultnet
+from faultnet.accuracy import RTOL_RANGE, step_for_rtol
+from faultnet.exceptions import InvalidParameterError
+from faultnet.options import omega2_max
+
+
+def _model(kind):
+    g = (
+        faultnet.graphs.ring(200)
+        if kind == "ring"
+        else faultnet.graphs.square_lattice(12, 12, periodic=True)
+    )
+    return faultnet.CarlsonLanger(g, k=16, sigma=0.01, alpha=1.0)
+
+
+def _events(model, count=24):
+    """Pre-event states of ``count`` consecutive multi-block events after a transient."""
+    state = faultnet.simulate(model, 3000, rng=7, progress=False).state
+    states = []
+    while len(states) < count:
+        res = faultnet.simulate(model, 1, x0=state, progress=False)
+        if int(res.events.n_blocks.iloc[0]) > 1:
+            states.append(state)
+        state = res.state
+    return states
+
+
+def _slips(model, states, dt, crossings, local_from=32):
+    opts = faultnet.RunOptions(dt=dt, crossings=crossings, local_regions_from=local_from)
+    return np.array(
+        [faultnet.simulate(model, 1, x0=s, progress=False, options=opts).events.S.iloc[0]
+         for s in states]
+    )  # fmt: skip
+
+
+@pytest.mark.parametrize("kind", ["ring", "lattice"])
+def test_slip_error_within_rtol(kind):
+    model = _model(kind)
+    states = _events(model)
+    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact", float("inf"))
+    for rtol in (1e-7, 1e-6, 2e-5, 1e-4):
+        choice = step_for_rtol(model, rtol)
+        S = _slips(model, states, choice.dt, choice.crossings)
+        via_options = [
+            faultnet.simulate(model, 1, x0=s, progress=False, rtol=rtol).events.S.iloc[0]
+            for s in states[:3]
+        ]
+        assert np.array_equal(via_options, S[:3])  # simulate(rtol=) runs the calibrated settings
+        err = np.quantile(np.abs(S / ref - 1.0), 0.9)
+        assert err <= rtol, (kind, rtol, choice, err)
+        # the knob is not a fixed fine step: the error follows rtol
+        assert err >= rtol * 1e-3, (kind, rtol, choice, err)
+
+
+def test_interpolated_crossings_order():
+    """Halving the step with interpolated crossings cuts the error about 16-fold (4th order)."""
+    model = _model("ring")
+    states = _events(model, 16)
+    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact", float("inf"))
+    root = omega2_max(model) ** 0.5
+    errs = []
+    for coef in (0.2, 0.1):
+        S = _slips(model, states, coef / root, "interpolated")
+        errs.append(np.median(np.abs(S / ref - 1.0)))
+    assert errs[0] / errs[1] > 8.0, errs
+
+
+@pytest.mark.parametrize("rtol", [0.0, 5e-9, 2e-4, float("nan"), "x"])
+def test_rtol_outside_range_names_it(rtol):
+    with pytest.raises(
+        InvalidParameterError, match=f"{RTOL_RANGE[0]:g} and {RTOL_RANGE[1]:g}|number"
+    ):
+        step_for_rtol(_model("ring"), rtol)
+
+
+def test_crossings_value_checked():
+    with pytest.raises(InvalidParameterError, match="crossings must be one of"):
+        faultnet.RunOptions(crossings="fast")
+    with pytest.raises(InvalidParameterError, match="needs method 'dopri5'"):
+        faultnet.RunOptions(crossings="interpolated", method="rk4")
+    with pytest.raises(InvalidParameterError, match="rtol must be between"):
+        faultnet.simulate(_model("ring"), 1, rng=1, progress=False, rtol=1e-3)
