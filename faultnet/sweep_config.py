@@ -22,6 +22,10 @@ Sweep file (TOML)
     m_min = -6.0                 # optional b-fit window (default: maximum curvature ..
     m_max = 3.0                  # .. to the largest event)
     out = "runs/alpha"           # output folder, relative to this file (default: its stem)
+    rtol = 2e-5                  # optional: target accuracy of slips (faultnet.RunOptions.rtol)
+
+    [sweep.options]              # optional: any other faultnet.RunOptions field
+    crossings = "interpolated"   # e.g. method, crossings, solo_cache, local_regions_from
 
     [sweep.vars]                 # optional: lists substituted into "{name}" in graph specs
     L = [32, 64]
@@ -76,6 +80,8 @@ ALLOWED_KEYS = {
     "m_max": "number",
     "out": "output folder (string)",
     "vars": "table of lists substituted into graph specs",
+    "rtol": "number in [1e-8, 1e-4]: target relative accuracy of slips",
+    "options": "table of faultnet.RunOptions fields (method, crossings, solo_cache, ...)",
 }
 _LIST_CHECKS = {
     "k": (lambda v: v > 0, "> 0"),
@@ -265,6 +271,7 @@ class SweepConfig:
     out: str | None = None
     templates: list = field(default_factory=list)
     vars: dict = field(default_factory=dict)
+    options: dict = field(default_factory=dict)
 
     @classmethod
     def from_dict(cls, table, base_dir=None, where="[sweep]") -> SweepConfig:
@@ -282,6 +289,7 @@ class SweepConfig:
             for name in LIST_KEYS
         }
         settings = _run_settings(table)
+        settings["options"] = _run_options(table, where)
         out = _out_folder(table.get("out"), base_dir)
         return cls(
             graphs=graphs,
@@ -320,6 +328,7 @@ class SweepConfig:
                 "events": self.events,
                 "seed_entropy": self.seed,
                 "spawn_key": [index],
+                **({"options": self.options} if self.options else {}),
             }
             for index, (graph, k, sigma, alpha, dt, rep) in enumerate(combos)
         ]
@@ -335,6 +344,7 @@ class SweepConfig:
             "events": self.events,
             "replicas": self.replicas,
             "seed": self.seed,
+            **({"options": self.options} if self.options else {}),
         }
 
     def to_dict(self) -> dict:
@@ -350,6 +360,24 @@ class SweepConfig:
             m_max=self.m_max,
         )
         return d
+
+
+def _run_options(table, where):
+    """The RunOptions of ``[sweep.options]`` and ``rtol``, as the dict of the fields given."""
+    from faultnet.options import RunOptions
+
+    given = table.get("options", {})
+    if not isinstance(given, dict):
+        raise ConfigError(f"{where}.options must be a table of RunOptions fields; got {given!r}")
+    given = dict(given)
+    if "rtol" in table:
+        given["rtol"] = table["rtol"]
+    try:
+        opts = RunOptions.from_dict(given)
+    except InvalidParameterError as exc:
+        raise ConfigError(f"{where}: {exc}") from None
+    full = opts.to_dict()
+    return {key: full[key] for key in given}
 
 
 def load_config(path) -> SweepConfig:

@@ -110,3 +110,26 @@ def test_points_need_a_seed():
     points = cfg.with_seed().points()
     assert [p["replica"] for p in points] == [0, 1, 2]
     assert len({p["seed_entropy"] for p in points}) == 1
+
+
+def test_run_options_table_and_rtol():
+    from faultnet.sweep_config import SweepConfig
+
+    cfg = SweepConfig.from_dict(
+        {
+            "graph": "ring:10",
+            "events": 10,
+            "seed": 1,
+            "rtol": 2e-5,
+            "options": {"solo_cache": False},
+        }
+    )
+    assert cfg.options == {"rtol": 2e-5, "solo_cache": False}
+    assert all(p["options"] == cfg.options for p in cfg.points())
+    assert cfg.defining()["options"] == cfg.options
+    plain = SweepConfig.from_dict({"graph": "ring:10", "events": 10, "seed": 1})
+    assert "options" not in plain.points()[0] and "options" not in plain.defining()
+    with pytest.raises(ConfigError, match=r"rtol must be between"):
+        SweepConfig.from_dict({"graph": "ring:10", "events": 10, "rtol": 1.0})
+    with pytest.raises(ConfigError, match=r"unknown run option.*speed"):
+        SweepConfig.from_dict({"graph": "ring:10", "events": 10, "options": {"speed": 2}})
