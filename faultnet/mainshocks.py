@@ -208,13 +208,14 @@ def _near(ms, graph, owner, pos, tau, radius):
     return owner[keep], pos[keep], tau[keep]
 
 
-def aftershock_times(events, m_main, t_end, m_min=None, side="after"):
+def aftershock_times(events, m_main, t_end, m_min=None, side="after", graph=None, radius=None):
     """Pooled times since (or before) mainshocks whose window ``t_end`` is complete.
 
     Only mainshocks whose next (for ``side="before"``: previous) mainshock and
     the catalog's end (start) lie more than ``t_end`` away are used, so every
     stacked sequence covers the whole window and :func:`fit_omori` with
-    ``n_sequences`` applies.
+    ``n_sequences`` applies.  ``graph`` and ``radius`` keep only events near
+    the mainshock's hypocentre, as in :func:`stack_mainshocks`.
 
     Returns
     -------
@@ -236,7 +237,11 @@ def aftershock_times(events, m_main, t_end, m_min=None, side="after"):
     window = (0.0, t_end) if side == "after" else (t_end, 0.0)
     ms = _Mainshocks(events, m_main, window, m_min)
     full = (ms.hi >= t_end) if side == "after" else (ms.lo <= -t_end)
-    owner, _, tau = ms.pairs()
+    owner, pos, tau = ms.pairs()
+    if radius is not None:
+        if graph is None:
+            raise InvalidParameterError("radius needs the graph the catalog was simulated on")
+        owner, pos, tau = _near(ms, graph, owner, pos, tau, float(radius))
     sel = full[owner] & ((tau > 0) if side == "after" else (tau < 0))
     return np.abs(tau[sel]), int(full.sum())
 
@@ -305,11 +310,12 @@ def distance_profile(events, graph, m_main, window, bins=10, m_min=None, metric=
         dists.append(d[hyp[rows]])
     d_all = np.concatenate(dists) if dists else np.zeros(0)
     finite_max = max(float(np.max(d[np.isfinite(d)])) for d in per_main)
-    edges = (
-        np.linspace(0.0, finite_max * (1 + 1e-9), int(bins) + 1)
-        if np.ndim(bins) == 0
-        else np.asarray(bins, dtype=np.float64)
-    )
+    if np.ndim(bins) == 0:
+        edges = np.linspace(0.0, finite_max * (1 + 1e-9), int(bins) + 1)
+    else:
+        edges = np.asarray(bins, dtype=np.float64)
+        if edges.ndim != 1 or edges.size < 2 or np.any(np.diff(edges) <= 0):
+            raise InvalidParameterError("bins: distance edges must increase (>= 2 values)")
     count = np.histogram(d_all, bins=edges)[0]
     expected = np.zeros(edges.size - 1)
     for j, d in enumerate(per_main):

@@ -133,7 +133,7 @@ def _hessian(f, x, h=1e-4):
     return hess
 
 
-def fit_omori(times, t_start, t_end, n_sequences=1, p_bounds=(0.05, 5.0)):
+def fit_omori(times, t_start, t_end, n_sequences=1, p_bounds=(-3.0, 5.0)):
     """Maximum-likelihood Omori-Utsu fit ``K / (t + c)^p`` on ``[t_start, t_end]``.
 
     ``K`` is profiled out (``K = n / int (t + c)^-p dt``) and the profile
@@ -152,8 +152,9 @@ def fit_omori(times, t_start, t_end, n_sequences=1, p_bounds=(0.05, 5.0)):
     n_sequences : int, optional
         Number of stacked sequences: the fitted ``K`` is divided by it.
     p_bounds : (float, float), optional
-        Search interval of ``p``.  ``c`` is searched over
-        ``[1e-6, 10] * (t_end - t_start)``.
+        Search interval of ``p``; it reaches below 0 so that a rate that does
+        not decay (``p <= 0``) shows as such instead of being pinned at a bound.
+        ``c`` is searched over ``[1e-6, 10] * (t_end - t_start)``.
 
     Returns
     -------
