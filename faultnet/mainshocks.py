@@ -151,9 +151,11 @@ def stack_mainshocks(events, m_main, window, bins=20, m_min=None, graph=None, ra
         Columns ``t_lo``, ``t_hi``, ``t`` (bin centre), ``count``,
         ``exposure``, ``rate`` (events per unit plate time, all mainshocks
         together divided by their exposure) and ``rate_err`` (``sqrt(count) /
-        exposure``).  ``attrs``: ``n_mainshocks`` and ``background`` (the mean
-        rate of the counted events over the whole catalog, spatially
-        restricted events excluded).
+        exposure``).  ``attrs``: ``n_mainshocks`` and ``background``: the
+        mean rate of the counted events over the whole catalog, or with
+        ``radius`` the catalog-wide rate of those within ``radius`` of a
+        mainshock's hypocentre (averaged over the mainshocks), so that
+        ``rate / background`` is 1 without any time correlation.
 
     Examples
     --------
@@ -171,7 +173,10 @@ def stack_mainshocks(events, m_main, window, bins=20, m_min=None, graph=None, ra
     if radius is not None:
         if graph is None:
             raise InvalidParameterError("radius needs the graph the catalog was simulated on")
-        owner, pos, tau = _near(ms, graph, owner, pos, tau, float(radius))
+        owner, pos, tau, background = _near(ms, graph, owner, pos, tau, float(radius))
+    else:
+        span = ms.t[-1] - ms.t[0]
+        background = float(ms.selected.size / span) if span > 0 else float("nan")
     count = np.histogram(tau, bins=edges)[0]
     expo = ms.exposure(edges)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -188,24 +193,36 @@ def stack_mainshocks(events, m_main, window, bins=20, m_min=None, graph=None, ra
             "rate_err": err,
         }
     )
-    span = ms.t[-1] - ms.t[0]
     table.attrs["n_mainshocks"] = int(ms.main.size)
-    table.attrs["background"] = float(ms.selected.size / span) if span > 0 else float("nan")
+    table.attrs["background"] = background
     return table
 
 
 def _near(ms, graph, owner, pos, tau, radius):
-    """Keep the pairs whose event lies within ``radius`` of its mainshock's hypocentre."""
+    """Keep the pairs whose event lies within ``radius`` of its mainshock's hypocentre.
+
+    Also returns the background of such a count: the catalog-wide rate of the
+    selected events within ``radius`` of each mainshock's hypocentre, averaged
+    over the mainshocks.
+    """
     from faultnet._geometry import geometry
 
     geo = geometry(graph)
+    if "hypocenter" not in ms.events.columns:
+        raise InvalidParameterError("events needs a 'hypocenter' column for distances")
     hyp = geo.indices(ms.events["hypocenter"].tolist())
+    node_count = np.bincount(hyp[ms.selected], minlength=len(geo.nodes))
     keep = np.zeros(owner.size, bool)
-    for j in np.unique(owner):
-        rows = np.flatnonzero(owner == j)
+    bounds = np.searchsorted(owner, np.arange(ms.main.size + 1))  # owner is sorted
+    near_total = 0.0
+    for j in range(ms.main.size):
         d = geo.distances(hyp[ms.main[j]])
+        rows = slice(bounds[j], bounds[j + 1])
         keep[rows] = d[hyp[pos[rows]]] <= radius
-    return owner[keep], pos[keep], tau[keep]
+        near_total += float(node_count[d <= radius].sum())
+    span = ms.t[-1] - ms.t[0]
+    background = near_total / ms.main.size / span if span > 0 else float("nan")
+    return owner[keep], pos[keep], tau[keep], background
 
 
 def aftershock_times(events, m_main, t_end, m_min=None, side="after", graph=None, radius=None):
@@ -241,7 +258,7 @@ def aftershock_times(events, m_main, t_end, m_min=None, side="after", graph=None
     if radius is not None:
         if graph is None:
             raise InvalidParameterError("radius needs the graph the catalog was simulated on")
-        owner, pos, tau = _near(ms, graph, owner, pos, tau, float(radius))
+        owner, pos, tau, _ = _near(ms, graph, owner, pos, tau, float(radius))
     sel = full[owner] & ((tau > 0) if side == "after" else (tau < 0))
     return np.abs(tau[sel]), int(full.sum())
 
@@ -303,11 +320,11 @@ def distance_profile(events, graph, m_main, window, bins=10, m_min=None, metric=
     span = ms.t[-1] - ms.t[0]
     expo = np.clip(-gap - ms.lo, 0.0, None)
     dists, per_main = [], []
+    bounds = np.searchsorted(owner, np.arange(ms.main.size + 1))  # owner is sorted
     for j in range(ms.main.size):
         d = geo.distances(hyp[ms.main[j]], metric)
         per_main.append(d)
-        rows = pos[owner == j]
-        dists.append(d[hyp[rows]])
+        dists.append(d[hyp[pos[bounds[j] : bounds[j + 1]]]])
     d_all = np.concatenate(dists) if dists else np.zeros(0)
     finite_max = max(float(np.max(d[np.isfinite(d)])) for d in per_main)
     if np.ndim(bins) == 0:
@@ -362,7 +379,7 @@ def b_around_mainshocks(events, m_main, window, m_min, graph=None, radius=None):
     if radius is not None:
         if graph is None:
             raise InvalidParameterError("radius needs the graph the catalog was simulated on")
-        owner, pos, tau = _near(ms, graph, owner, pos, tau, float(radius))
+        owner, pos, tau, _ = _near(ms, graph, owner, pos, tau, float(radius))
     out: dict[str, BFit | None] = {}
     for side, rows in (("before", pos[tau < 0]), ("after", pos[tau > 0])):
         try:

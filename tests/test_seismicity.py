@@ -248,6 +248,17 @@ def test_stack_near_the_hypocentre_counts_only_close_events():
         fs.stack_mainshocks(ev, 5.0, window=2.0, radius=2.0)
 
 
+def test_near_stack_of_an_uncorrelated_catalog_sits_at_its_background():
+    G = faultnet.graphs.ring(100)
+    ev = poisson_catalog(50.0, 400.0, 9, n_nodes=100)
+    ev.loc[ev.sample(300, random_state=1).index, "M"] = 6.0
+    near = fs.stack_mainshocks(ev, 5.0, window=0.5, bins=2, graph=G, radius=10.0, m_min=-1)
+    # 21 of 100 blocks lie within 10 of a block on the ring: background 50 * 0.21 (+- noise)
+    assert near.attrs["background"] == pytest.approx(50.0 * 0.21, rel=0.05)
+    ratio = near["rate"] / near.attrs["background"]
+    assert np.all(np.abs(ratio - 1.0) < 4 * near["rate_err"] / near.attrs["background"])
+
+
 # --------------------------------------------------------------------------- b-values
 
 
