@@ -257,9 +257,11 @@ def omori_text(row) -> str:
     row = dict(zip(OMORI_FIELDS, np.asarray(row, dtype=np.float64), strict=True))
     if not np.isfinite(row["p"]):
         return "n/a (too few events)"
+    at_bound = min(abs(row["p"] - 5.0), abs(row["p"] + 3.0)) < 1e-3
+    bound = " (p at the search bound)" if at_bound else ""
     return (
         f"p = {row['p']:.2f} +/- {row['p_err']:.2f}, c = {row['c']:.2g} +/- {row['c_err']:.1g}"
-        f" (n = {int(row['n'])})"
+        f" (n = {int(row['n'])}){bound}"
     )
 
 
@@ -310,7 +312,7 @@ ENTRIES = {
     "seis_percolation_alpha1": {
         "paper": dict(graph=PERC, alpha=1.0, n_events=2_000_000, transient_t=2.0, seed=1,
                       m_main=3.5, radius=5.0, m_local=3.5, m_complete=-6.0),
-        "fast": dict(graph={**PERC, "rows": 40, "cols": 40}, alpha=1.0, n_events=30_000,
+        "fast": dict(graph={**PERC, "rows": 40, "cols": 40}, alpha=1.0, n_events=15_000,
                      transient_t=1.0, seed=1, m_main=1.5, radius=5.0, m_local=1.5,
                      stack_window=0.5, omori_t_end=0.2, m_complete=-6.0, b_window=200,
                      chunk=10_000),
