@@ -299,7 +299,13 @@ def test_bad_arguments_name_themselves():
 
 
 def test_doctests_of_the_seismicity_modules():
-    for name in ("faultnet.seismicity", "faultnet.mainshocks", "faultnet.omori"):
+    for name in (
+        "faultnet.seismicity",
+        "faultnet.mainshocks",
+        "faultnet.omori",
+        "faultnet.ecosystem",
+        "faultnet.seismicity_plots",
+    ):
         module = importlib.import_module(name)
         result = doctest.testmod(
             module, optionflags=doctest.ELLIPSIS | doctest.NORMALIZE_WHITESPACE
