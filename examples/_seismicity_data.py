@@ -17,7 +17,7 @@ Recompute::
 
     python examples/_seismicity_data.py --list
     python examples/_seismicity_data.py --regenerate seis_ring_alpha1
-    python examples/_seismicity_data.py --regenerate          # all (~10 min, one core)
+    python examples/_seismicity_data.py --regenerate          # all (~6 min, one core)
 """
 
 from __future__ import annotations
