@@ -228,7 +228,7 @@ def test_stored_seismicity_runs_have_provenance():
     """The stored paper-scale reductions reload and say how they were made."""
     helper = _load_helper()
     for name in ("seis_ring_alpha1", "seis_ring_alpha2", "seis_percolation_alpha1"):
-        path = Path(helper.data_dir()) / f"{name}.npz"
+        path = EXAMPLES.parent / "data" / f"{name}.npz"  # the repository's, not $FAULTNET_DATA
         result, prov = helper.load_result(path)
         for key in ("params", "seed", "n_events", "wall_time_s", "faultnet_version", "command"):
             assert key in prov, (name, key)
