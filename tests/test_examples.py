@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import importlib.util
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -173,3 +174,63 @@ def test_histogram_fits_match_fits_on_raw_magnitudes():
     assert mle.b == pytest.approx(raw_mle.b, rel=1e-3)
     table = paper.magnitude_table(result, width=0.25)
     assert float((table["density"] * table["width"]).sum()) == pytest.approx(1.0)
+
+
+# --------------------------------------------------------------------------- seismicity pages
+
+SEISMICITY_PAGES = {
+    # the literature's qualitative statements and the three-way b comparison must be printed
+    "plot_seismicity_ring.py": (
+        "seismicity_ring.png",
+        ["< 1 (quasi-periodic)", "< 1 (doughnut)", "no Omori law", "three-way b", "alpha=2"],
+    ),
+    "plot_seismicity_percolation.py": (
+        "seismicity_percolation.png",
+        ["< 1 (quasi-periodic)", "(graph)", "(euclidean)", "three-way b", "paper (lsq): ~0.67"],
+    ),
+}
+
+
+@pytest.mark.parametrize("script", sorted(SEISMICITY_PAGES))
+def test_seismicity_page_runs_in_fast_mode(script, tmp_path):
+    png, expected = SEISMICITY_PAGES[script]
+    env = dict(os.environ)
+    env.update(
+        FAULTNET_FAST="1",
+        FAULTNET_FIGURES=str(tmp_path / "figures"),
+        FAULTNET_DATA=str(tmp_path / "data"),
+        MPLBACKEND="Agg",
+        PYTHONIOENCODING="utf-8",
+    )
+    proc = subprocess.run(
+        [sys.executable, str(EXAMPLES / script)],
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    out = proc.stdout
+    assert proc.returncode == 0, f"{script} failed:\n{out[-3000:]}\n{proc.stderr[-3000:]}"
+    path = tmp_path / "figures" / png
+    assert path.is_file() and path.stat().st_size > 10_000
+    assert "FAST mode" in out and "computed (fast" in out
+    missing = [s for s in expected if s not in out]
+    assert not missing, f"{script}: {missing} not printed:\n{out[-3000:]}"
+    # the three estimates of b are one number once the conventions are converted
+    lines = [line for line in out.splitlines() if "three-way b" in line]
+    values = {re.search(r"agree\s+([-\d.]+) \+/-", line).group(1) for line in lines}
+    assert len(lines) == 3 and len(values) == 1, lines
+    assert not (tmp_path / "data").exists()  # fast mode stores nothing
+
+
+def test_stored_seismicity_runs_have_provenance():
+    """The stored paper-scale reductions reload and say how they were made."""
+    helper = _load_helper()
+    for name in ("seis_ring_alpha1", "seis_ring_alpha2", "seis_percolation_alpha1"):
+        path = EXAMPLES.parent / "data" / f"{name}.npz"  # the repository's, not $FAULTNET_DATA
+        result, prov = helper.load_result(path)
+        for key in ("params", "seed", "n_events", "wall_time_s", "faultnet_version", "command"):
+            assert key in prov, (name, key)
+        assert prov["builder"] == "run_seismicity" and result["n_events"] >= 2_000_000
+        assert result["n_mainshocks"] > 300
