@@ -11,6 +11,7 @@ import argparse
 import json
 import math
 import os
+import signal
 import sys
 import time
 
@@ -324,6 +325,18 @@ def _run_option_flags(p):
     g = p.add_argument_group("run options (faultnet.RunOptions; default: as recorded on --resume)")
     g.add_argument("--method", choices=["dopri5", "rk4"], help="scheme inside events (dopri5)")
     g.add_argument(
+        "--rtol",
+        type=_finite,
+        help="target relative accuracy of an event's slip, 1e-8..1e-4 (sets the step and the "
+        "crossing treatment; --dt overrides the step)",
+    )
+    g.add_argument(
+        "--crossings",
+        choices=["exact", "interpolated"],
+        help="stops and joins: redo the step to each (exact) or place them on the step's "
+        "dense output (interpolated); default: exact, or the --rtol calibration's",
+    )
+    g.add_argument(
         "--solo-cache",
         action=argparse.BooleanOptionalAction,
         default=None,
@@ -349,7 +362,15 @@ def run_options_from_args(args):
     """The RunOptions the flags ask for, or None when no run-option flag is given."""
     from faultnet.options import RunOptions
 
-    names = ("method", "solo_cache", "local_regions_from", "max_event_duration", "max_velocity")
+    names = (
+        "method",
+        "rtol",
+        "crossings",
+        "solo_cache",
+        "local_regions_from",
+        "max_event_duration",
+        "max_velocity",
+    )
     given = {n: getattr(args, n) for n in names if getattr(args, n, None) is not None}
     return RunOptions(**given) if given else None
 
@@ -564,6 +585,7 @@ def main(argv=None) -> int:
     except SystemExit as exc:  # --help, --version, usage errors
         return int(exc.code or 0)
     out = sys.stdout
+    previous = _sigterm_as_interrupt()
     try:
         return COMMANDS[args.command](args, out)
     except KeyboardInterrupt:
@@ -587,3 +609,18 @@ def main(argv=None) -> int:
     except (FaultnetError, OSError) as exc:
         print(f"faultnet {args.command}: error: {exc}", file=sys.stderr)
         return EXIT_FAILED
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _interrupt(signum, frame):
+    raise KeyboardInterrupt
+
+
+def _sigterm_as_interrupt():
+    """SIGTERM stops a command as Ctrl-C does (checkpoint kept, locks and workers released)."""
+    try:
+        return signal.signal(signal.SIGTERM, _interrupt)
+    except ValueError:  # not the main thread: leave SIGTERM alone
+        return None

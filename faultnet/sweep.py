@@ -37,10 +37,12 @@ from faultnet.exceptions import (
     CatalogError,
     ConfigError,
     InvalidParameterError,
+    OutputExistsError,
     SweepError,
 )
+from faultnet.lock import output_lock
 from faultnet.sweep_config import SweepConfig, as_config, load_config
-from faultnet.sweep_folder import point_file_name, point_state, prepare_out
+from faultnet.sweep_folder import SWEEP_LOCK, point_file_name, point_state, prepare_out
 from faultnet.sweep_summary import failed_row, point_row, summarize, summary_table
 
 __all__ = [
@@ -73,6 +75,7 @@ def run_point(
         sigma=point["sigma"],
         alpha=point["alpha"],
         dt=point["dt"],
+        options=point.get("options"),
         seed=seq,
         chunk_events=chunk,
         checkpoint_interval=checkpoint_interval,
@@ -109,15 +112,34 @@ def _local_pool(workers):
     if method == "forkserver":
         ctx.set_forkserver_preload(["faultnet.sweep"])
     return cf.ProcessPoolExecutor(
-        max_workers=workers, mp_context=ctx, initializer=_no_compile_helper
+        max_workers=workers, mp_context=ctx, initializer=_init_worker, initargs=(os.getpid(),)
     )
 
 
-def _no_compile_helper():
-    """Pool workers are one process per core already: no second process compiling for them."""
+def _init_worker(sweep_pid):
+    """Set up a pool worker: no compile helper, and exit when the sweep's process dies.
+
+    Pool workers are one process per core already, so no second process
+    compiles for them.  A thread watches the sweep's process (and the
+    worker's own parent): when either is gone, the worker exits at once
+    instead of writing on as an orphan.  Its chunk and checkpoint writes are
+    atomic, and its lock is stale once it is gone, so a rerun resumes.
+    """
+    import threading
+    import time
+
     from faultnet import _compile_helper
+    from faultnet.lock import _alive
 
     os.environ[_compile_helper.ENV] = "0"
+    parent = os.getppid()
+
+    def watch():
+        while os.getppid() == parent and _alive(sweep_pid):
+            time.sleep(0.2)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="faultnet-orphan-watch", daemon=True).start()
 
 
 @contextlib.contextmanager
@@ -146,8 +168,15 @@ def _executor(executor, scheduler, workers, n_tasks):
     pool = _local_pool(n)
     try:
         yield pool, f"{n} local processes"
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)
+    except BaseException:
+        # interrupted (Ctrl-C, SIGTERM) or failed: stop the workers now, as Ctrl-C on a
+        # terminal does (their writes are atomic; a rerun resumes their points)
+        for proc in list((getattr(pool, "_processes", None) or {}).values()):
+            with contextlib.suppress(OSError, AttributeError):
+                proc.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    pool.shutdown(wait=True, cancel_futures=True)
 
 
 def sweep(
@@ -207,6 +236,16 @@ def sweep(
     if out is None:
         raise ConfigError("sweep needs an output folder: out=... (or sweep.out in the config)")
     log = log or (lambda msg: None)
+    if not os.path.isdir(out):
+        if os.path.exists(out):
+            raise OutputExistsError(f"sweep output {out} exists and is not a folder")
+        os.makedirs(out, exist_ok=True)
+    with output_lock(os.path.join(out, SWEEP_LOCK), what=f"sweep folder {out}"):
+        return _sweep_locked(cfg, out, executor, scheduler, workers, force, progress, log)
+
+
+def _sweep_locked(cfg, out, executor, scheduler, workers, force, progress, log):
+    """The body of :func:`sweep`, run while holding the folder's lock."""
     cfg = prepare_out(cfg, out, force)
     n_points = len(cfg.points())
     rows, todo = _plan(cfg, out, force, log)

@@ -73,7 +73,7 @@ def _check_folder(out, force):
     if os.path.exists(out) and not os.path.isdir(out):
         raise OutputExistsError(f"sweep output {out} exists and is not a folder")
     os.makedirs(out, exist_ok=True)
-    names = os.listdir(out)
+    names = [n for n in os.listdir(out) if n != SWEEP_LOCK]
     foreign = sorted(n for n in names if not is_own_file(n))
     has_manifest = os.path.isfile(os.path.join(out, MANIFEST))
     if names and not has_manifest and not force:

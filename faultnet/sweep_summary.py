@@ -95,8 +95,7 @@ def summarize(out, *, transient=None, m_min=None, m_max=None) -> pd.DataFrame:
     manifest = os.path.join(out, MANIFEST)
     if not os.path.isfile(manifest):
         return _summarize_catalogs(out, transient, m_min, m_max)
-    with open(manifest, encoding="utf-8") as fh:
-        conf = json.load(fh)["config"]
+    conf = _read_config(manifest)
     defining = ("k", "sigma", "alpha", "dt", "events", "replicas", "seed")
     cfg = SweepConfig(graphs=conf["graphs"], **{key: conf[key] for key in defining})
     transient = conf.get("transient", 0) if transient is None else transient
@@ -107,6 +106,21 @@ def summarize(out, *, transient=None, m_min=None, m_max=None) -> pd.DataFrame:
     table = summary_table(rows)
     table.attrs["out"] = out
     return table
+
+
+def _read_config(manifest):
+    """The ``config`` table of a manifest; a garbled file is a CatalogError naming it."""
+    try:
+        with open(manifest, encoding="utf-8") as fh:
+            conf = json.load(fh)["config"]
+        if not isinstance(conf, dict) or not isinstance(conf.get("graphs"), list):
+            raise ValueError("no sweep settings")
+    except (OSError, ValueError, KeyError, TypeError) as exc:
+        raise CatalogError(
+            f"{manifest} is unreadable or garbled ({type(exc).__name__}: {exc}); rerun the "
+            "sweep with its file and --force to rewrite it"
+        ) from None
+    return conf
 
 
 def _sweep_row(point, out, n_points, transient, m_min, m_max):

@@ -1,0 +1,122 @@
+"""A sweep folder has one writer; its workers die with it; SIGTERM stops it as Ctrl-C does."""
+
+import glob
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from faultnet.__main__ import main
+from faultnet.exceptions import OutputLockedError
+from faultnet.lock import _alive, read_holder
+from faultnet.sweep import sweep
+
+PY = [sys.executable, "-m", "faultnet"]
+LONG = """[sweep]
+graph = "ring:400"
+alpha = [1.0, 1.5, 2.0, 2.5]
+events = 2000000
+seed = 1
+chunk = 2000
+checkpoint_interval = 0.2
+"""
+
+
+def _start(tmp_path, workers):
+    cfg = tmp_path / "s.toml"
+    cfg.write_text(LONG)
+    out = tmp_path / "c"
+    proc = subprocess.Popen(
+        [*PY, "sweep", str(cfg), "--out", str(out), "--workers", str(workers), "--quiet"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,  # signals reach only the process the test names
+    )
+    return proc, cfg, out
+
+
+def _wait_for(pattern, proc, n=1, timeout=60):
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout:
+        found = glob.glob(pattern)
+        if len(found) >= n:
+            return found
+        if proc.poll() is not None:
+            raise AssertionError(proc.communicate())
+        time.sleep(0.05)
+    raise AssertionError(f"no {pattern} after {timeout} s")
+
+
+def _worker_pids(out, proc):
+    locks = _wait_for(os.path.join(out, "part-*.parquet.lock"), proc, n=2)
+    pids = set()
+    for path in locks:
+        holder = read_holder(path) or {}
+        if isinstance(holder.get("pid"), int) and holder["pid"] != proc.pid:
+            pids.add(holder["pid"])
+    assert pids, locks
+    return pids
+
+
+def _all_gone(pids, timeout=10):
+    t0 = time.monotonic()
+    while time.monotonic() - t0 < timeout:
+        if not any(_alive(p) and not _zombie(p) for p in pids):
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def _zombie(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as fh:
+            return fh.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except OSError:
+        return True
+
+
+def _stop(proc):
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGKILL)
+    proc.communicate()
+
+
+def test_second_sweep_on_a_folder_is_refused_naming_the_first(tmp_path):
+    proc, cfg, out = _start(tmp_path, workers=1)
+    try:
+        _wait_for(os.path.join(out, "sweep.lock"), proc)
+        with pytest.raises(OutputLockedError, match=rf"sweep folder .* pid {proc.pid} .*sweep"):
+            sweep(cfg, out=out, workers=1, progress=False)
+    finally:
+        _stop(proc)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
+def test_workers_exit_when_the_sweep_process_dies_or_is_terminated(tmp_path, sig):
+    proc, cfg, out = _start(tmp_path, workers=2)
+    try:
+        pids = _worker_pids(out, proc)
+        os.kill(proc.pid, sig)
+        rc = proc.wait(timeout=30)
+        assert _all_gone(pids), f"workers {pids} still alive"
+        if sig == signal.SIGTERM:  # shut down as Ctrl-C does: one line, 130, lock released
+            err = proc.stderr.read()
+            assert rc == 130 and "interrupted" in err and "Traceback" not in err, err
+            assert not os.path.exists(os.path.join(out, "sweep.lock"))
+    finally:
+        _stop(proc)
+
+
+@pytest.mark.parametrize("text", ["{not json", "[1, 2]", '{"config": 3}'])
+def test_garbled_manifest_gives_one_line(tmp_path, capsys, text):
+    out = tmp_path / "c"
+    sweep(out=out, graph="ring:30", alpha=[1.0], events=200, seed=1, workers=1, progress=False)
+    (out / "sweep.json").write_text(text)
+    assert main(["summarize", str(out)]) == 1
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert "sweep.json" in err and "--force" in err
