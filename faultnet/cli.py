@@ -182,7 +182,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=_nonneg_int,
         default=None,
         metavar="N",
-        help="events left out of the b fits (recorded in the catalog; default 0)",
+        help="events left out of the b fits (recorded in the catalog; default: the events "
+        "before plate time 2)",
     )
     p.add_argument(
         "--chunk",
@@ -317,7 +318,13 @@ def _size(path):
 def cmd_simulate(args, out):
     import numpy as np
 
-    from faultnet.io import catalog_stats, fit_b_values, format_stats
+    from faultnet.io import (
+        TRANSIENT_PLATE_TIME,
+        catalog_stats,
+        events_before,
+        fit_b_values,
+        format_stats,
+    )
     from faultnet.runner import run_from_spec
 
     if args.graph is None and not args.resume:
@@ -365,14 +372,26 @@ def cmd_simulate(args, out):
         f"seed={md['seed_entropy']}",
         file=out,
     )
+    transient = args.transient if args.transient is not None else md.get("transient") or None
+    default_note = None
+    if transient is None:  # default: leave out the events before plate time 2
+        if report.path is not None:
+            transient = events_before(report.path, TRANSIENT_PLATE_TIME)
+        else:
+            transient = int(np.searchsorted(report.plate_times, TRANSIENT_PLATE_TIME))
+        default_note = (
+            f"transient   the {transient:,} events before plate time {TRANSIENT_PLATE_TIME:g} "
+            "are left out of the fits (--transient N to choose)"
+        )
     if report.path is not None:
-        st = catalog_stats(report.path, m_min=args.m_min, m_max=args.m_max)
+        st = catalog_stats(report.path, transient=transient, m_min=args.m_min, m_max=args.m_max)
         print(format_stats(md, st), file=out)
+        if default_note:
+            print(default_note, file=out)
         if report.status != "already complete":
             print(f"wrote {report.path} ({_size(report.path)})", file=out)
         return EXIT_OK
     M = report.magnitudes
-    transient = int(md.get("transient") or 0)
     fin = M[np.isfinite(M)]
     st = {
         "events": n,
@@ -384,6 +403,8 @@ def cmd_simulate(args, out):
     }
     st.update(fit_b_values(M[transient:], m_min=args.m_min, m_max=args.m_max))
     print(format_stats(md, st), file=out)
+    if default_note:
+        print(default_note, file=out)
     print("(no --out given: the catalog was not saved)", file=out)
     return EXIT_OK
 

@@ -98,6 +98,8 @@ class RunReport:
         Events committed before this call (0 for a fresh run).
     magnitudes : numpy.ndarray or None
         ``M`` of every event, only for ``out=None``.
+    plate_times : numpy.ndarray or None
+        ``t`` (plate position) of every event, only for ``out=None``.
     seen : dict
         For ``out=None``: ``t_first``, ``t_last`` and ``largest_n_blocks``.
     """
@@ -107,6 +109,7 @@ class RunReport:
     status: str = "completed"
     resumed_from: int = 0
     magnitudes: np.ndarray | None = field(default=None, repr=False)
+    plate_times: np.ndarray | None = field(default=None, repr=False)
     seen: dict = field(default_factory=dict, repr=False)
 
 
@@ -552,6 +555,7 @@ def _run(
         if state is None and rows == 0 and os.path.isfile(ck_path):
             os.remove(ck_path)  # pragma: no cover - defensive
     mags = [] if out is None else None
+    times = [] if out is None else None
     seen = {}
     buffer, buffered = [], 0
     last_ck = time.monotonic()
@@ -574,6 +578,7 @@ def _run(
         buffer, buffered = [], 0
         if out is None:
             mags.append(events["M"].to_numpy(copy=True))
+            times.append(events["t"].to_numpy(copy=True))
             if "t_first" not in seen:
                 seen["t_first"] = float(events["t"].iloc[0])
             seen["t_last"] = float(events["t"].iloc[-1])
@@ -655,6 +660,7 @@ def _run(
             md,
             status=status,
             magnitudes=np.concatenate(mags) if mags else np.zeros(0),
+            plate_times=np.concatenate(times) if times else np.zeros(0),
             seen=seen,
         )
     parts = [os.path.join(wd, _part_name(i)) for i in range(n_parts)]
