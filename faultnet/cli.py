@@ -383,6 +383,13 @@ def cmd_simulate(args, out):
             f"transient   the {transient:,} events before plate time {TRANSIENT_PLATE_TIME:g} "
             "are left out of the fits (--transient N to choose)"
         )
+        if transient > md["n_events"] // 2:  # a short run: fit its second half
+            transient = md["n_events"] // 2
+            default_note = (
+                f"transient   the first half of the run ({transient:,} events) is left out of "
+                f"the fits: the run ends before plate time {TRANSIENT_PLATE_TIME:g}, so it may "
+                "not be in a steady state yet (--transient N to choose)"
+            )
     if report.path is not None:
         st = catalog_stats(report.path, transient=transient, m_min=args.m_min, m_max=args.m_max)
         print(format_stats(md, st), file=out)

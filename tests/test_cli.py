@@ -300,3 +300,11 @@ def test_simulate_default_fits_leave_out_transient_and_top_percent(tmp_path, cap
     chosen = capsys.readouterr().out
     assert "before plate time" not in chosen and "after a transient of 100" in chosen
     assert "(maximum curvature to --m-max)" in chosen
+
+
+def test_simulate_default_transient_of_a_short_run_is_half_of_it(capsys):
+    """A run that ends before plate time 2 is fitted on its second half, and says so."""
+    assert main(["simulate", "ring:100", "--events", "300", "--seed", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "the first half of the run (150 events) is left out" in text
+    assert "after a transient of 150" in text
