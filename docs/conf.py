@@ -157,7 +157,7 @@ sphinx_gallery_conf = {
     "examples_dirs": str(ROOT / "examples"),
     "gallery_dirs": "auto_examples",
     "filename_pattern": r"/plot_",
-    "ignore_pattern": r"/_",  # examples/_paper_data.py is a helper, not an example
+    "ignore_pattern": r"(^|/)_",  # examples/_paper_data.py is a helper, not an example
     "within_subsection_order": "FileNameSortKey",
     "doc_module": ("faultnet",),
     "backreferences_dir": "generated/backreferences",
