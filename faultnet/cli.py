@@ -299,7 +299,7 @@ def _fit_options(p):
         type=_finite,
         default=None,
         metavar="M",
-        help="upper end of the least-squares fit (default: largest event)",
+        help="upper end of the least-squares fit (default: the 99th percentile of M above --m-min)",
     )
 
 

@@ -28,7 +28,7 @@ Sweep file (TOML)
     chunk = 100000               # events per catalog chunk (memory bound; default 100000)
     checkpoint_interval = 60     # seconds between checkpoints (default 60)
     m_min = -6.0                 # optional b-fit window (default: maximum curvature ..
-    m_max = 3.0                  # .. to the largest event)
+    m_max = 3.0                  # .. to the 99th percentile of M above it)
     out = "runs/alpha"           # output folder, relative to this file (default: its stem)
 
     [sweep.vars]                 # optional: lists substituted into "{name}" in graph specs
