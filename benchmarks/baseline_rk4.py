@@ -1,8 +1,8 @@
-"""The issue's yardstick: a careful but unoptimised event-driven RK4, timed on this machine.
+"""The yardstick: a careful but unoptimised event-driven RK4, timed on this machine.
 
-Issue 4 sets its event-rate targets at "about twice what a careful but
-unoptimised event-driven RK4 implementation reaches on this machine at the
-accuracy above".  This script is that implementation, written plainly and
+The event-rate targets of the benchmark suite are stated against "a careful
+but unoptimised event-driven RK4 implementation on this machine at the same
+accuracy".  This script is that implementation, written plainly and
 independently of ``faultnet._kernels`` (it uses faultnet only to build the
 workload graphs and their steady states), so the premise of the targets can be
 checked instead of assumed:
@@ -24,7 +24,8 @@ The small helpers (force, acceleration) are inlined by Numba (``inline=
 update, and the baseline ran 2.5x slower (4,315 against 10,713 events/s on W1).
 That is a Numba pitfall, not a design choice, so the yardstick avoids it.
 
-``check`` compares the three events the issue names with a dt -> 0 reference
+``check`` compares the three named single events (one block, two blocks,
+a 10-block ring; see ``docs/guide/accuracy.rst``) with a dt -> 0 reference
 (``tests/reference.py``, SciPy DOP853 at rtol 1e-13) and with faultnet; ``time``
 runs a workload from the same steady state as ``run.py`` and prints events/s
 next to faultnet's default DP5 (with ``--rk4`` also faultnet's RK4, at its own
@@ -284,7 +285,7 @@ def one_event(model, x0, coefficient=DT_COEFFICIENT):
 
 
 def named_events():
-    """The three events issue 4 names: (label, model, x0)."""
+    """The three named single events of the accuracy checks: (label, model, x0)."""
     import faultnet
 
     g = faultnet.graphs
