@@ -170,4 +170,5 @@ sphinx_gallery_conf = {
     "image_scrapers": ("matplotlib",),
     "matplotlib_animations": False,
     "min_reported_time": 1,
+    "capture_repr": (),  # print() output only, not the repr of a block's last expression
 }
