@@ -161,7 +161,6 @@ sphinx_gallery_conf = {
     "within_subsection_order": "FileNameSortKey",
     "doc_module": ("faultnet",),
     "backreferences_dir": "generated/backreferences",
-    "reference_url": {"faultnet": None},
     "abort_on_example_error": True,
     "only_warn_on_example_error": False,
     "remove_config_comments": True,
