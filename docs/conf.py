@@ -65,8 +65,8 @@ def _public_names():
     groups = {"Classes": [], "Functions": [], "Exceptions": []}
     for name in faultnet.__all__:
         obj = getattr(faultnet, name)
-        if inspect.ismodule(obj):
-            continue
+        if inspect.ismodule(obj) or name.startswith("_") or not callable(obj):
+            continue  # modules are listed in api.rst; __version__ and data are not API pages
         if inspect.isclass(obj) and issubclass(obj, BaseException):
             groups["Exceptions"].append(name)
         elif inspect.isclass(obj):
