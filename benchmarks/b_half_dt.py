@@ -1,7 +1,7 @@
 """Does b on W1 depend on dt?  Default dt against half of it, same start.
 
-The issue-4 accuracy check: "b on W1 agrees with a run at half the dt within
-its statistical error".  Both runs start from one state taken after a
+The accuracy check of the default step: b on W1 should agree with a run at
+half the dt within its statistical error.  Both runs start from one state taken after a
 transient (plate time >= 5, as the paper-scale Fig. 8a entry); the dynamics is
 chaotic, so the two catalogs decorrelate within a few thousand events and are
 in effect independent samples of the same statistics.
@@ -15,7 +15,7 @@ regression standard error of a single fit does not.
     python benchmarks/b_half_dt.py --events 200000 # quicker, looser
     python benchmarks/b_half_dt.py --seed 1 2 3 4  # several starts, pooled
 
-Batch means understate the run-to-run scatter of b on W1 (session 6: four starts of 10^6
+Batch means understate the run-to-run scatter of b on W1 (four starts of 10^6
 events gave LSQ differences of -0.0063, +0.0030, -0.0022, +0.0048 between dt and dt / 2, quoted
 as -4.45 to +1.93 combined standard errors).  With several seeds the pooled comparison uses the
 scatter of the per-start values instead.

@@ -13,7 +13,7 @@ in effect independent samples.  Errors of one start are batch means, as in
 ``b_half_dt.py``.
 
 One start is not enough for the LSQ tail fit: its b scatters between starts
-by 0.026-0.030 (session 8: 5 region runs and 4 whole-event runs of 10^6
+by 0.026-0.030 (measured over 5 region runs and 4 whole-event runs of 10^6
 events), more than the batch-means error of one start (0.015-0.025).  With
 several seeds the pooled comparison uses the scatter of the per-start values.
 

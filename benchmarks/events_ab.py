@@ -4,7 +4,7 @@ Whole runs from one saved state compare two versions of the code badly: the
 dynamics is chaotic, so a change that moves one crossing by round-off makes the
 runs diverge after a few thousand events, and then the event mix differs (W4:
 476 against 506 block-steps per event for two versions that each made every
-event cheaper; session 8).  This tool fixes the events instead:
+event cheaper).  This tool fixes the events instead:
 
 - ``save`` runs a workload past its transient (as ``run.py`` does), then N
   events, and keeps the pre-event states of the first COUNT events with at

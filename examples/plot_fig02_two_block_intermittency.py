@@ -7,13 +7,13 @@ alpha = 2) started at rest from x = (0.001, 0.002):
 
 * (a) the total slip S of each event: small one-block slips
   (S ~ 3.8e-3) repeat 3-20 times between large simultaneous slips (S ~ 2.4);
-* (b) x2 - x1 after each event: |x2 - x1| falls by 0.0038 per small slip
+* (b) x2 - x1 after each event: abs(x2 - x1) falls by 0.0038 per small slip
   until the blocks slip together; the chaotic intermittent sequence is a
   transient that ends in a stable two-period state x2 - x1 = +-0.0019;
 * (c) the one-dimensional map x2 - x1 -> x2' - x1' (one event from rest,
   ``faultnet.dynamics.return_map``): x2' - x1' = x2 - x1 -+ 0.0038 for
-  |x2 - x1| > 0.0019, and a strongly nonlinear simultaneous-slip branch in
-  between whose largest |x2' - x1'| is 0.065.
+  abs(x2 - x1) > 0.0019, and a strongly nonlinear simultaneous-slip branch in
+  between whose largest abs(x2' - x1') is 0.065.
 
 Initial state (the paper's): x = (0.001, 0.002), plate u = 0.  The whole
 sequence is shown (no transient is discarded: the transient *is* the figure).

@@ -8,7 +8,7 @@ sigma = 0.01, alpha = 1.5 in its chaotic state, 108 < t < 115.3:
 * (a) the profile x_i(t): a dent whose delayed blocks catch up by small slips;
 * (b) S(t): small slips of one or a few blocks (the smallest, a single-block
   slip, is 1.007e-3) and, once the dent is shallow, a large simultaneous slip;
-* (c) the irregularity Delta = (1/N) sum_i |x_{i+1} - x_i| (Eq. 13,
+* (c) the irregularity Delta = (1/N) sum_i abs(x_{i+1} - x_i) (Eq. 13,
   ``faultnet.irregularity``): it decreases during the small slips and jumps
   when a large slip occurs.
 

@@ -43,7 +43,10 @@ import pandas as pd  # noqa: E402
 import faultnet  # noqa: E402
 
 FAST = os.environ.get("FAULTNET_FAST") == "1" or "--fast" in sys.argv
-ROOT = Path(__file__).resolve().parent.parent
+try:
+    ROOT = Path(__file__).resolve().parent.parent
+except NameError:  # sphinx-gallery runs the script from its folder without __file__
+    ROOT = Path.cwd().parent
 DATA = Path(os.environ.get("FAULTNET_DATA", ROOT / "data")) / "showcase" / "summary.csv"
 FIGURES = Path(os.environ.get("FAULTNET_FIGURES", ROOT / "examples" / "figures"))
 

@@ -128,9 +128,9 @@ def helper_order(order):
 
     Front to back, without the spine kernels (the main process's): while the main process
     compiles ``dopri_step`` (3-4 s) the helper gets ahead of it, and the main process then
-    loads the region code and the landing instead of compiling them (benchmarks/NOTES.md,
-    session 9: 21-22 s against 29-32 s with the earlier order, which took the rest of the
-    list from the back and reached the landing and the region code too late).
+    loads the region code and the landing instead of compiling them (a first call of 21-22 s
+    against 29-32 s when the helper took the rest of the list from the back and reached the
+    landing and the region code too late).
     """
     return [row for row in order if not row[3]]
 

@@ -189,7 +189,8 @@ def build_parser() -> argparse.ArgumentParser:
         type=_nonneg_int,
         default=None,
         metavar="N",
-        help="events left out of the b fits (recorded in the catalog; default 0)",
+        help="events left out of the b fits (recorded in the catalog; default: the events "
+        "before plate time 2)",
     )
     p.add_argument(
         "--chunk",
@@ -305,7 +306,7 @@ def _fit_options(p):
         type=_finite,
         default=None,
         metavar="M",
-        help="upper end of the least-squares fit (default: largest event)",
+        help="upper end of the least-squares fit (default: the 99th percentile of M above --m-min)",
     )
 
 
@@ -379,7 +380,13 @@ def cmd_simulate(args, out):
     import numpy as np
 
     from faultnet.runner import run_from_spec
-    from faultnet.summary import catalog_stats, fit_b_values, format_stats
+    from faultnet.summary import (
+        TRANSIENT_PLATE_TIME,
+        catalog_stats,
+        events_before,
+        fit_b_values,
+        format_stats,
+    )
 
     if args.graph is None and not args.resume:
         raise InvalidParameterError("GRAPH is required (e.g. ring:200); see faultnet simulate -h")
@@ -427,14 +434,33 @@ def cmd_simulate(args, out):
         f"method={md['method']} seed={md['seed_entropy']}",
         file=out,
     )
+    transient = args.transient if args.transient is not None else md.get("transient") or None
+    default_note = None
+    if transient is None:  # default: leave out the events before plate time 2
+        if report.path is not None:
+            transient = events_before(report.path, TRANSIENT_PLATE_TIME)
+        else:
+            transient = int(np.searchsorted(report.plate_times, TRANSIENT_PLATE_TIME))
+        default_note = (
+            f"transient   the {transient:,} events before plate time {TRANSIENT_PLATE_TIME:g} "
+            "are left out of the fits (--transient N to choose)"
+        )
+        if transient > md["n_events"] // 2:  # a short run: fit its second half
+            transient = md["n_events"] // 2
+            default_note = (
+                f"transient   the first half of the run ({transient:,} events) is left out of "
+                f"the fits: the run ends before plate time {TRANSIENT_PLATE_TIME:g}, so it may "
+                "not be in a steady state yet (--transient N to choose)"
+            )
     if report.path is not None:
-        st = catalog_stats(report.path, m_min=args.m_min, m_max=args.m_max)
+        st = catalog_stats(report.path, transient=transient, m_min=args.m_min, m_max=args.m_max)
         print(format_stats(md, st), file=out)
+        if default_note:
+            print(default_note, file=out)
         if report.status != "already complete":
             print(f"wrote {report.path} ({_size(report.path)})", file=out)
         return EXIT_OK
     M = report.magnitudes
-    transient = int(md.get("transient") or 0)
     fin = M[np.isfinite(M)]
     st = {
         "events": n,
@@ -446,6 +472,8 @@ def cmd_simulate(args, out):
     }
     st.update(fit_b_values(M[transient:], m_min=args.m_min, m_max=args.m_max))
     print(format_stats(md, st), file=out)
+    if default_note:
+        print(default_note, file=out)
     print("(no --out given: the catalog was not saved)", file=out)
     return EXIT_OK
 

@@ -93,6 +93,8 @@ class RunReport:
         Events committed before this call (0 for a fresh run).
     magnitudes : numpy.ndarray or None
         ``M`` of every event, only for ``out=None``.
+    plate_times : numpy.ndarray or None
+        ``t`` (plate position) of every event, only for ``out=None``.
     seen : dict
         For ``out=None``: ``t_first``, ``t_last`` and ``largest_n_blocks``.
     """
@@ -102,6 +104,7 @@ class RunReport:
     status: str = "completed"
     resumed_from: int = 0
     magnitudes: np.ndarray | None = field(default=None, repr=False)
+    plate_times: np.ndarray | None = field(default=None, repr=False)
     seen: dict = field(default_factory=dict, repr=False)
 
 
@@ -303,7 +306,7 @@ class _Catalog:
         self.wd, self.first_md = wd, first_md
         self.committed = committed  # rows in committed chunks
         self.buffer, self.buffered = [], 0
-        self.mags, self.seen = [], {}
+        self.mags, self.times, self.seen = [], [], {}
 
     def add(self, events):
         self.buffer.append(events)
@@ -341,6 +344,7 @@ class _Catalog:
 
     def _see(self, events):
         self.mags.append(events["M"].to_numpy(copy=True))
+        self.times.append(events["t"].to_numpy(copy=True))
         self.seen.setdefault("t_first", float(events["t"].iloc[0]))
         self.seen["t_last"] = float(events["t"].iloc[-1])
         self.seen["largest_n_blocks"] = max(
@@ -433,7 +437,10 @@ def _run(*, model, n_events, out, wd, identity, seq, options, chunk_events, inte
     status = "resumed" if resumed_from else "completed"
     if out is None:
         mags = np.concatenate(sink.mags) if sink.mags else np.zeros(0)
-        return RunReport(None, md, status=status, magnitudes=mags, seen=sink.seen)
+        times = np.concatenate(sink.times) if sink.times else np.zeros(0)
+        return RunReport(
+            None, md, status=status, magnitudes=mags, plate_times=times, seen=sink.seen
+        )
     chunks = [chunk_path(wd, i) for i in range(ck.n_chunks)]
     ck_path = os.path.join(wd, "checkpoint.npz")
     verify_chunks(wd, ck)  # checksums and event numbers of every chunk before the merge

@@ -39,6 +39,13 @@ __all__ = [
 
 #: magnitudes beyond this many are thinned (every k-th event) for b fits
 MAX_FIT_EVENTS = 2_000_000
+#: plate time before which ``faultnet simulate`` leaves events out of its b fits by
+#: default: the plate has moved twice the slip threshold, so on average every block
+#: has slipped about twice and the random initial state is forgotten
+TRANSIENT_PLATE_TIME = 2.0
+#: default upper end of the least-squares window: this quantile of M above m_min
+#: (the largest 1% of events, too few per bin and where finite-size humps sit, stay out)
+LSQ_TOP_QUANTILE = 0.99
 
 
 def _row_groups(pf, columns):
@@ -81,6 +88,21 @@ def read_magnitudes(path, skip=0, max_n=MAX_FIT_EVENTS):
     return (np.concatenate(out) if out else np.zeros(0)), step
 
 
+def events_before(path, t):
+    """Number of events of a catalog file whose plate time is below ``t``, streamed."""
+    path, _ = open_catalog_file(path)
+    count = 0
+    try:
+        for batch in _row_groups(pq.ParquetFile(path), ["t"]):
+            times = batch.column(0).to_numpy()
+            count += int(np.searchsorted(times, t))
+            if len(times) and times[-1] >= t:
+                break
+    except (OSError, pa.ArrowException) as exc:
+        raise CatalogError(f"cannot read catalog {path}: {exc}") from exc
+    return count
+
+
 def fit_b_values(M, m_min=None, m_max=None) -> dict:
     """Both b-value fits of magnitudes ``M`` (non-finite values dropped).
 
@@ -111,7 +133,17 @@ def fit_b_values(M, m_min=None, m_max=None) -> dict:
     except (ValueError, FaultnetError, ZeroDivisionError, FloatingPointError) as exc:
         notes.append(f"MLE fit failed: {exc}")
     else:
-        hi = mle.m_max if m_max is None else float(m_max)
+        above = M[M >= mle.m_min]
+        hi = float(np.quantile(above, LSQ_TOP_QUANTILE)) if m_max is None else float(m_max)
+        out["window"] = (
+            ("maximum curvature" if m_min is None else "--m-min")
+            + " to "
+            + (
+                f"the {LSQ_TOP_QUANTILE * 100:.0f}th percentile of M above it"
+                if m_max is None
+                else "--m-max"
+            )
+        )
         out.update(
             b_mle=float(mle.b),
             b_mle_err=float(mle.b_err),
@@ -200,9 +232,10 @@ def format_stats(md, st) -> str:
         f"b (MLE)     {_fmt(st['b_mle'])} ± {_fmt(st['b_mle_err'])} for M >= {_fmt(st['m_min'])} "
         f"(n = {st['n_fit']:,}; {fit_on})"
     )
+    window = f" ({st['window']})" if st.get("window") else ""
     lines.append(
         f"b (LSQ)     {_fmt(st['b_lsq'])} ± {_fmt(st['b_lsq_err'])} on "
-        f"[{_fmt(st['m_min'])}, {_fmt(st['m_max'])}]"
+        f"[{_fmt(st['m_min'])}, {_fmt(st['m_max'])}]{window}"
     )
     if st.get("fit_note"):
         lines.append(f"note        {st['fit_note']}")

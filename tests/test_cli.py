@@ -264,3 +264,52 @@ def test_run_option_flags_reach_the_catalog(tmp_path, capsys):
     pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
     assert main(["simulate", "ring:20", "--events", "5", "--local-regions-from", "0"]) == 2
     assert "--local-regions-from" in capsys.readouterr().err
+
+
+def test_simulate_default_fits_leave_out_transient_and_top_percent(tmp_path, capsys):
+    """Without --transient / --m-max the printout drops the events before plate time 2 and
+    fits b by least squares up to the 99th percentile of M, and says so; with --out the
+    same numbers come from the catalog file."""
+    import numpy as np
+
+    from faultnet.stats import fit_b_lsq, fit_b_mle
+
+    args = ["simulate", "ring:200", "--alpha", "1", "--events", "4000", "--seed", "3"]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    ref = faultnet.simulate(
+        faultnet.CarlsonLanger(faultnet.graphs.ring(200), alpha=1.0), 4000, rng=3, progress=False
+    )
+    t, M = ref.events["t"].to_numpy(), ref.events["M"].to_numpy()
+    skip = int((t < 2.0).sum())
+    assert 0 < skip < 4000
+    assert f"the {skip:,} events before plate time 2 are left out of the fits" in text
+    assert f"after a transient of {skip:,}" in text
+    kept = M[skip:]
+    mle = fit_b_mle(kept)
+    top = float(np.quantile(kept[kept >= mle.m_min], 0.99))
+    assert top < kept.max()
+    lsq = fit_b_lsq(kept, mle.m_min, top)
+    assert f"b (LSQ)     {lsq.b:.3f} ± {lsq.b_err:.3f} on [{mle.m_min:.3f}, {top:.3f}]" in text
+    assert "(maximum curvature to the 99th percentile of M above it)" in text
+    assert f"b (MLE)     {mle.b:.3f}" in text
+
+    out = tmp_path / "ring.parquet"
+    assert main([*args, "--out", str(out)]) == 0
+    from_file = capsys.readouterr().out
+    for line in text.splitlines()[2:-1]:  # the same fit lines, read back from the catalog
+        assert line in from_file, line
+
+    # chosen values: no default note, the window says where it came from
+    assert main([*args, "--transient", "100", "--m-max", "1.5"]) == 0
+    chosen = capsys.readouterr().out
+    assert "before plate time" not in chosen and "after a transient of 100" in chosen
+    assert "(maximum curvature to --m-max)" in chosen
+
+
+def test_simulate_default_transient_of_a_short_run_is_half_of_it(capsys):
+    """A run that ends before plate time 2 is fitted on its second half, and says so."""
+    assert main(["simulate", "ring:100", "--events", "300", "--seed", "1"]) == 0
+    text = capsys.readouterr().out
+    assert "the first half of the run (150 events) is left out" in text
+    assert "after a transient of 150" in text

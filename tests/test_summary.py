@@ -9,7 +9,13 @@ import faultnet
 from faultnet import io as fio
 from faultnet.exceptions import CatalogError
 from faultnet.stats import fit_b_lsq, fit_b_mle
-from faultnet.summary import catalog_stats, fit_b_values, format_stats, read_magnitudes
+from faultnet.summary import (
+    LSQ_TOP_QUANTILE,
+    catalog_stats,
+    fit_b_values,
+    format_stats,
+    read_magnitudes,
+)
 
 
 @pytest.fixture(scope="module")
@@ -49,7 +55,8 @@ def test_catalog_stats_match_the_in_memory_fits(chunked):
     assert st["largest_n_blocks"] == events["n_blocks"].max()
     M = events["M"].to_numpy()[100:]
     mle = fit_b_mle(M)
-    lsq = fit_b_lsq(M, mle.m_min, mle.m_max)
+    top = float(np.quantile(M[M >= mle.m_min], LSQ_TOP_QUANTILE))  # the default LSQ window
+    lsq = fit_b_lsq(M, mle.m_min, top)
     assert st["b_mle"] == mle.b and st["n_fit"] == mle.n and st["b_lsq"] == lsq.b
     assert catalog_stats(out, transient=0)["n_fit"] != st["n_fit"]
 

@@ -8,7 +8,7 @@ W, in the row of the block's position in the active list (``W[q, KV + s]``).
 
 For the same accuracy this fifth-order scheme takes steps about five times
 longer than RK4 with 6 instead of 4 force evaluations per step (the seventh,
-first-same-as-last evaluation is the next step's A), see benchmarks/NOTES.md.
+first-same-as-last evaluation is the next step's A), see docs/guide/performance.rst.
 """
 
 import numpy as np

@@ -17,7 +17,7 @@ DP5 step to the join and its Newton polish (6 + 1 force passes).
 Stops are not landed: the end of a step past a stop lies on the friction
 law's continuation to negative velocities, whose derivatives grow like
 (1 + 2 alpha v / (1 - sigma))^-n, and interpolating through it cost
-accuracy (benchmarks/NOTES.md, session 6).  Whenever the landing is not
+accuracy (one block at alpha = 2 lost up to 20x).  Whenever the landing is not
 clean (no root next to the estimate, or another block found across its own
 crossing at the join) the caller takes the partial-step path instead.
 

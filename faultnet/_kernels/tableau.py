@@ -2,8 +2,7 @@
 
 The tableau is written out as named constants so each stage pass of
 :func:`faultnet._kernels.dopri.dopri_step` is straight-line code with constant
-coefficients (20% faster than loops over a coefficient array, see
-benchmarks/NOTES.md).
+coefficients (20% faster than loops over a coefficient array).
 """
 
 from faultnet._kernels.integrate import N_WORK
