@@ -15,6 +15,31 @@ A chunk is written atomically first, then the checkpoint that covers it; a
 chunk beyond the checkpoint (a kill between the two steps) is discarded on
 resume, so the resumed run continues from a state that matches its catalog
 exactly and the final catalog equals an uninterrupted run bit for bit.
+
+Guarantees
+----------
+What is atomic
+    every file (chunk, ``checkpoint.npz``, ``run.json``, the catalog) is
+    written to a temporary name, fsynced and renamed (:mod:`faultnet.atomic`):
+    a kill leaves it as it was or complete.  A chunk counts only once the
+    checkpoint covering it is written; the checkpoint folder is removed only
+    after the catalog is in place.
+What is checked
+    ``run.json`` must exist and match the call (else the resume is refused);
+    ``checkpoint.npz`` records the SHA-256 of every chunk, verified with the
+    event numbers on resume, before the merge and by ``faultnet info``
+    (:func:`verify_chunks`); every reader and every "already done" decision
+    checks a catalog's row count against ``n_events`` and its event numbers
+    (:func:`faultnet.io.verify_catalog`).  Unreadable files are one
+    :class:`~faultnet.exceptions.CatalogError` naming the file and ``--force``.
+What a lock protects
+    one writer per output (``out.parquet.lock``) and per sweep folder
+    (``sweep.lock``), see :mod:`faultnet.lock`; a second writer is refused
+    naming the holder, a lock of a dead process is taken over.
+What a user must not do
+    edit or delete files inside a checkpoint or sweep folder by hand, delete a
+    lock whose holder may be alive, or share an output between hosts on a
+    file system without ``O_EXCL``.  The full list: ``docs/guide/guarantees.rst``.
 """
 
 from __future__ import annotations
