@@ -31,7 +31,7 @@ def _compare_event(model, state):
     err_loc = np.abs(loc.state.x - ref.state.x).max()
     err_glob = np.abs(glob.state.x - ref.state.x).max()
     s_ref = ref.events.S.iloc[0]
-    # S within the issue's 1e-6 of the dt -> 0 limit, or (a long event whose whole-event
+    # S within 1e-6 of the dt -> 0 limit, or (a long event whose whole-event
     # treatment is itself further off) within twice that treatment's own error
     s_err_glob = abs(glob.events.S.iloc[0] / s_ref - 1.0)
     s_err_loc = abs(loc.events.S.iloc[0] / s_ref - 1.0)
@@ -73,7 +73,7 @@ def test_large_correlated_events(square40):
     whole-event treatment's (both 1e-9 to 2e-8 in displacement, S within
     8e-7 of the limit), for 13% to 58% fewer block-steps.  Which events these
     are depends on the code (the fixture's run is chaotic); an 880-block event
-    picked in session 8 has S 5.2e-6 from the limit with either treatment
+    of an earlier fixture run has S 5.2e-6 from the limit with either treatment
     (displacements 1.5e-7), so S is held to the whole-event treatment's error.
     """
     model, state = square40
@@ -97,8 +97,8 @@ def test_same_statistics(square40):
     """20,000 events each way: the b-values agree within their scatter.
 
     The MLE error of one run understates how b scatters between runs from
-    different starts (correlated events): over 8 starts 5,000 events apart
-    (session 9), the difference of the two treatments' b had a standard
+    different starts (correlated events): over 8 starts 5,000 events apart,
+    the difference of the two treatments' b had a standard
     deviation of 0.040 and a mean of +0.012 +- 0.014, against a quoted combined
     error of 0.019.  So the bound is three times twice the quoted error.
     """

@@ -1,4 +1,4 @@
-"""The issue-5 showcase example runs (fast mode: a real tiny sweep) and its stored data is sane."""
+"""The showcase example (b against alpha) runs (fast mode: a real tiny sweep) and its stored data is sane."""
 
 import os
 import subprocess

@@ -21,7 +21,7 @@ def test_single_block_slips_match_linear_formula(run):
     small = res.events.loc[res.events.n_blocks == 1, "S"].to_numpy()
     assert small.size > 50
     lin = linear_single_block_slip(SIGMA, 2.0, K + 1)
-    assert lin == pytest.approx(3.95e-3, rel=0.01)  # the "~3.9e-3"
+    assert lin == pytest.approx(3.95e-3, rel=0.01)  # the paper's "~0.0039" (Sect. 3)
     # every single-block slip of the sequence is the same linear-regime slip,
     # 4% below the linearised formula (paper, Fig. 2a: "S ~ 3.8e-3")
     np.testing.assert_allclose(small, small[0], rtol=1e-9)
