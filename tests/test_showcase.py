@@ -1,4 +1,4 @@
-"""The showcase example (b against alpha) runs (fast mode: a real tiny sweep) and its stored data is sane."""
+"""The showcase example (b against alpha) runs in fast mode and its stored data is sane."""
 
 import os
 import subprocess
