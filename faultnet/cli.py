@@ -379,7 +379,7 @@ def run_options_from_args(args):
 def cmd_simulate(args, out):
     import numpy as np
 
-    from faultnet.runner import run_from_spec
+    from faultnet.spec_run import run_from_spec
     from faultnet.summary import (
         TRANSIENT_PLATE_TIME,
         catalog_stats,

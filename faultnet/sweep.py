@@ -57,14 +57,23 @@ __all__ = [
 
 
 def run_point(
-    point, path, transient=0, chunk=100_000, checkpoint_interval=60.0, m_min=None, m_max=None
+    point,
+    path,
+    transient=0,
+    chunk=100_000,
+    checkpoint_interval=60.0,
+    m_min=None,
+    m_max=None,
+    *,
+    on_commit=None,
 ):
     """Run one sweep point into ``path`` (resuming its checkpoint) and return its summary row.
 
     A pure task: the result depends only on ``point`` (its parameters and
-    seed), never on where or when it runs.
+    seed), never on where or when it runs.  ``on_commit`` is passed to
+    :func:`~faultnet.runner.simulate_to_parquet` (called after each committed chunk).
     """
-    from faultnet.runner import run_from_spec
+    from faultnet.spec_run import run_from_spec
 
     seq = np.random.SeedSequence(point["seed_entropy"], spawn_key=tuple(point["spawn_key"]))
     run_from_spec(
@@ -83,6 +92,7 @@ def run_point(
         resume=True,
         progress=False,
         extra={"sweep_point": point},
+        on_commit=on_commit,
     )
     return point_row(point, path, transient, m_min, m_max)
 

@@ -11,9 +11,9 @@ import pandas as pd
 import pytest
 
 import faultnet
-from faultnet import runner
 from faultnet.__main__ import main
 from faultnet.io import read_catalog, read_metadata
+from faultnet.spec_run import run_from_spec
 from faultnet.specs import build_model, graph_hash
 
 PY = [sys.executable, "-m", "faultnet"]
@@ -180,18 +180,18 @@ class Crash(BaseException):
     pass
 
 
-def test_resume_from_the_command_line(tmp_path, capsys, monkeypatch):
-    out = tmp_path / "r.parquet"
-    real = runner.save_checkpoint
-    calls = []
+def _stop_after(n):
+    """An ``on_commit`` hook: the run is killed right after its ``n``-th committed chunk."""
 
-    def save(*args):
-        calls.append(1)
-        if len(calls) > 3:
+    def on_commit(n_chunks):
+        if n_chunks == n:
             raise Crash
-        return real(*args)
 
-    monkeypatch.setattr(runner, "save_checkpoint", save)
+    return on_commit
+
+
+def test_resume_from_the_command_line(tmp_path, capsys):
+    out = tmp_path / "r.parquet"
     args = [
         "simulate",
         "ring:50",
@@ -208,9 +208,9 @@ def test_resume_from_the_command_line(tmp_path, capsys, monkeypatch):
         "--out",
         str(out),
     ]
-    with pytest.raises(Crash):
-        main(args)
-    monkeypatch.undo()
+    with pytest.raises(Crash):  # what `faultnet simulate ARGS` runs, killed after 3 chunks
+        run_from_spec("ring:50", 2000, out, alpha=1.5, seed=8, chunk_events=200,
+                      checkpoint_interval=0, progress=False, on_commit=_stop_after(3))  # fmt: skip
     capsys.readouterr()
     assert main(args) == 2  # a checkpoint exists: neither restarted nor overwritten
     assert "pass --resume" in capsys.readouterr().err

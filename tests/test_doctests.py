@@ -12,6 +12,7 @@ MODULES = [
     "faultnet.options",
     "faultnet._validate",
     "faultnet.runner",
+    "faultnet.spec_run",
     "faultnet.atomic",
     "faultnet.summary",
     "faultnet.stats",

@@ -12,12 +12,13 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
-from faultnet import runner
+from faultnet import _run_loop
 from faultnet.__main__ import main
 from faultnet.checkpoint import checkpoint_dir, chunk_path
 from faultnet.exceptions import CatalogError, OutputLockedError
 from faultnet.io import read_catalog
 from faultnet.lock import _me, _start_ticks, is_stale
+from faultnet.spec_run import run_from_spec
 from faultnet.sweep_summary import summarize
 
 EVENTS = 2000
@@ -28,20 +29,15 @@ class Crash(KeyboardInterrupt):
     pass
 
 
-def _interrupted(out, monkeypatch, after=3, alpha=1.5):
+def _interrupted(out, after=3, alpha=1.5):
     """A run of SPEC into ``out`` killed after ``after`` committed chunks."""
-    real, calls = runner.save_checkpoint, {"n": 0}
 
-    def save(path, ck):
-        if calls["n"] >= after:
+    def on_commit(n_chunks):
+        if n_chunks == after:
             raise Crash
-        calls["n"] += 1
-        return real(path, ck)
 
-    monkeypatch.setattr(runner, "save_checkpoint", save)
     with pytest.raises(Crash):
-        runner.run_from_spec(out=out, alpha=alpha, progress=False, **SPEC)
-    monkeypatch.setattr(runner, "save_checkpoint", real)
+        run_from_spec(out=out, alpha=alpha, progress=False, on_commit=on_commit, **SPEC)
     return checkpoint_dir(out)
 
 
@@ -55,24 +51,24 @@ def _one_line(capsys):
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory):
     out = tmp_path_factory.mktemp("ref") / "ref.parquet"
-    runner.run_from_spec(out=out, alpha=1.5, progress=False, **SPEC)
+    run_from_spec(out=out, alpha=1.5, progress=False, **SPEC)
     return read_catalog(out).events
 
 
 # ---------------------------------------------------------------- identity (defect 2)
 
 
-def test_resume_without_run_json_is_refused(tmp_path, monkeypatch, capsys, reference):
+def test_resume_without_run_json_is_refused(tmp_path, capsys, reference):
     out = tmp_path / "x.parquet"
-    wd = _interrupted(out, monkeypatch)
+    wd = _interrupted(out)
     os.remove(os.path.join(wd, "run.json"))
     with pytest.raises(CatalogError, match=r"run\.json.*missing.*--force"):
-        runner.run_from_spec(out=out, resume=True, alpha=3.0, progress=False, **SPEC)
+        run_from_spec(out=out, resume=True, alpha=3.0, progress=False, **SPEC)
     rc = main(["simulate", "--resume", "--out", str(out), "ring:30", "-n", str(EVENTS),
                "--alpha", "3"])  # fmt: skip
     assert rc == 1 and "run.json" in _one_line(capsys)
     # nothing was mixed in: --force restarts cleanly
-    runner.run_from_spec(out=out, resume=True, force=True, alpha=1.5, progress=False, **SPEC)
+    run_from_spec(out=out, resume=True, force=True, alpha=1.5, progress=False, **SPEC)
     pd.testing.assert_frame_equal(read_catalog(out).events, reference)
 
 
@@ -86,13 +82,13 @@ def _damage(path, n=64):
         fh.write(bytes(range(n)))
 
 
-def test_damaged_chunk_is_refused_on_resume_and_by_info(tmp_path, monkeypatch, capsys):
+def test_damaged_chunk_is_refused_on_resume_and_by_info(tmp_path, capsys):
     out = tmp_path / "x.parquet"
-    wd = _interrupted(out, monkeypatch)
+    wd = _interrupted(out)
     bad = chunk_path(wd, 1)
     _damage(bad)
     with pytest.raises(CatalogError, match=r"chunk-000001\.parquet does not match its checksum"):
-        runner.run_from_spec(out=out, resume=True, progress=False, **SPEC)
+        run_from_spec(out=out, resume=True, progress=False, **SPEC)
     assert main(["simulate", "--resume", "--out", str(out)]) == 1
     msg = _one_line(capsys)
     assert "chunk-000001.parquet" in msg and "--force" in msg
@@ -100,19 +96,15 @@ def test_damaged_chunk_is_refused_on_resume_and_by_info(tmp_path, monkeypatch, c
     assert "checksum" in _one_line(capsys)
 
 
-def test_chunk_damaged_during_the_run_is_refused_at_the_merge(tmp_path, monkeypatch):
+def test_chunk_damaged_during_the_run_is_refused_at_the_merge(tmp_path):
     out = tmp_path / "x.parquet"
-    real, calls = runner.save_checkpoint, {"n": 0}
 
-    def save(path, ck):
-        real(path, ck)
-        calls["n"] += 1
-        if calls["n"] == 2:
-            _damage(chunk_path(os.path.dirname(path), 0))
+    def on_commit(n_chunks):
+        if n_chunks == 2:
+            _damage(chunk_path(checkpoint_dir(out), 0))
 
-    monkeypatch.setattr(runner, "save_checkpoint", save)
     with pytest.raises(CatalogError, match=r"chunk-000000\.parquet does not match its checksum"):
-        runner.run_from_spec(out=out, progress=False, **SPEC)
+        run_from_spec(out=out, progress=False, on_commit=on_commit, **SPEC)
     assert not out.exists()
 
 
@@ -129,7 +121,7 @@ def _rewrite(path, events):
 @pytest.mark.parametrize("damage", ["short", "duplicated"])
 def test_complete_but_wrong_catalog_is_never_accepted(tmp_path, reference, capsys, damage):
     out = tmp_path / "x.parquet"
-    runner.run_from_spec(out=out, alpha=1.5, progress=False, **SPEC)
+    run_from_spec(out=out, alpha=1.5, progress=False, **SPEC)
     ev = read_catalog(out).events
     if damage == "short":
         ev = ev.drop(index=range(500, 700)).reset_index(drop=True)
@@ -138,7 +130,7 @@ def test_complete_but_wrong_catalog_is_never_accepted(tmp_path, reference, capsy
     _rewrite(out, ev)
     match = r"holds \d+ events but its metadata says 2000|event number"
     with pytest.raises(CatalogError, match=match):  # resume of a "complete" output
-        runner.run_from_spec(out=out, resume=True, progress=False, **SPEC)
+        run_from_spec(out=out, resume=True, progress=False, **SPEC)
     assert main(["info", str(out)]) == 1
     assert "x.parquet" in _one_line(capsys)
     table = summarize(tmp_path)  # a folder of catalogs
@@ -150,9 +142,9 @@ def test_complete_but_wrong_catalog_is_never_accepted(tmp_path, reference, capsy
 
 @pytest.mark.parametrize("damage", ["truncated npz", "empty npz", "garbled run.json", "[1,2]"])
 @pytest.mark.parametrize("command", ["simulate", "info"])
-def test_broken_checkpoint_files_give_one_line(tmp_path, monkeypatch, capsys, damage, command):
+def test_broken_checkpoint_files_give_one_line(tmp_path, capsys, damage, command):
     out = tmp_path / "x.parquet"
-    wd = _interrupted(out, monkeypatch)
+    wd = _interrupted(out)
     npz, run_json = os.path.join(wd, "checkpoint.npz"), os.path.join(wd, "run.json")
     if damage == "truncated npz":
         data = open(npz, "rb").read()
@@ -195,7 +187,8 @@ def test_ctrl_c_while_loading_the_command_line(monkeypatch, capsys):
 @pytest.mark.parametrize("where", ["chunk", "merge"])
 def test_full_disk_names_the_file_and_the_way_on(tmp_path, monkeypatch, capsys, where, reference):
     out = tmp_path / "x.parquet"
-    real_part, real_merge, calls = runner.write_part, runner.merge_parts, {"n": 0}
+    # the disk fills inside a write: the run loop's writer itself must fail
+    real_part, real_merge, calls = _run_loop.write_part, _run_loop.merge_parts, {"n": 0}
 
     def full(*args, **kwargs):
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
@@ -205,9 +198,9 @@ def test_full_disk_names_the_file_and_the_way_on(tmp_path, monkeypatch, capsys, 
         return full() if calls["n"] == 4 else real_part(*args, **kwargs)
 
     if where == "chunk":
-        monkeypatch.setattr(runner, "write_part", part)
+        monkeypatch.setattr(_run_loop, "write_part", part)
     else:
-        monkeypatch.setattr(runner, "merge_parts", full)
+        monkeypatch.setattr(_run_loop, "merge_parts", full)
     argv = ["simulate", "ring:30", "-n", str(EVENTS), "--alpha", "1.5", "--seed", "3",
             "--chunk", "250", "--checkpoint-every", "0", "--out", str(out)]  # fmt: skip
     assert main(argv) == 1
@@ -215,8 +208,8 @@ def test_full_disk_names_the_file_and_the_way_on(tmp_path, monkeypatch, capsys, 
     target = "chunk-000003.parquet" if where == "chunk" else "x.parquet"
     assert target in msg and "No space left on device" in msg
     assert "is intact" in msg and "--resume" in msg
-    monkeypatch.setattr(runner, "write_part", real_part)
-    monkeypatch.setattr(runner, "merge_parts", real_merge)
+    monkeypatch.setattr(_run_loop, "write_part", real_part)
+    monkeypatch.setattr(_run_loop, "merge_parts", real_merge)
     assert main(["simulate", "--resume", "--out", str(out)]) == 0
     pd.testing.assert_frame_equal(read_catalog(out).events, reference)
 
@@ -224,27 +217,24 @@ def test_full_disk_names_the_file_and_the_way_on(tmp_path, monkeypatch, capsys, 
 # ---------------------------------------------------------------- lock (defect 1)
 
 
-def test_second_writer_is_refused_naming_the_holder(tmp_path, monkeypatch, capsys):
+def test_second_writer_is_refused_naming_the_holder(tmp_path, capsys):
     out = tmp_path / "x.parquet"
     seen = {}
-    real = runner.save_checkpoint
 
-    def save(path, ck):
-        real(path, ck)
+    def on_commit(n_chunks):
         if "rc" not in seen:  # while the first run holds the lock, a second one starts
             seen["rc"] = main(["simulate", "--resume", "--out", str(out)])
             seen["err"] = capsys.readouterr().err
 
-    monkeypatch.setattr(runner, "save_checkpoint", save)
-    runner.run_from_spec(out=out, alpha=1.5, progress=False, **SPEC)
+    run_from_spec(out=out, alpha=1.5, progress=False, on_commit=on_commit, **SPEC)
     assert seen["rc"] == 1
     assert f"pid {os.getpid()}" in seen["err"] and "is being written by" in seen["err"]
     assert not os.path.exists(str(out) + ".lock")  # released
 
 
-def test_lock_released_on_interrupt_and_stale_lock_taken_over(tmp_path, monkeypatch, reference):
+def test_lock_released_on_interrupt_and_stale_lock_taken_over(tmp_path, reference):
     out = tmp_path / "x.parquet"
-    _interrupted(out, monkeypatch)
+    _interrupted(out)
     lock = str(out) + ".lock"
     assert not os.path.exists(lock)
     # a lock left by a killed process: same host, pid gone
@@ -253,7 +243,7 @@ def test_lock_released_on_interrupt_and_stale_lock_taken_over(tmp_path, monkeypa
     holder = _me() | {"pid": dead.pid, "start_ticks": 1}
     with open(lock, "w") as fh:
         json.dump(holder, fh)
-    runner.run_from_spec(out=out, resume=True, progress=False, **SPEC)
+    run_from_spec(out=out, resume=True, progress=False, **SPEC)
     pd.testing.assert_frame_equal(read_catalog(out).events, reference)
     assert not os.path.exists(lock)
 
@@ -266,11 +256,11 @@ def test_live_lock_of_another_process_is_respected(tmp_path):
     with open(lock, "w") as fh:
         json.dump(holder, fh)
     with pytest.raises(OutputLockedError, match=rf"pid {os.getppid()} .*faultnet simulate other"):
-        runner.run_from_spec(out=out, progress=False, **SPEC)
+        run_from_spec(out=out, progress=False, **SPEC)
     # the same pid with another start time is a reused pid: stale
     holder["start_ticks"] = (holder["start_ticks"] or 0) + 12345
     with open(lock, "w") as fh:
         json.dump(holder, fh)
     assert is_stale(holder)
-    runner.run_from_spec(out=out, progress=False, **SPEC)
+    run_from_spec(out=out, progress=False, **SPEC)
     assert not os.path.exists(lock)

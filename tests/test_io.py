@@ -1,7 +1,6 @@
-"""Parquet catalogs (faultnet.io): round trips, bad files, chunked runs and their memory bound."""
+"""Parquet catalogs (faultnet.io): round trips, node labels, atomic writes, bad files."""
 
 import os
-import tracemalloc
 
 import networkx as nx
 import numpy as np
@@ -12,7 +11,6 @@ import pytest
 
 import faultnet
 from faultnet import io as fio
-from faultnet import runner
 from faultnet.atomic import atomic_path
 from faultnet.exceptions import CatalogError, OutputExistsError
 from faultnet.specs import graph_hash
@@ -90,78 +88,3 @@ def test_bad_files_are_reported(tmp_path, ring_result):
         fio.read_metadata(tmp_path / "other.parquet")
     with pytest.raises(CatalogError, match="does not exist"):
         fio.read_catalog(tmp_path / "missing.parquet")
-
-
-def test_chunked_run_is_bit_identical(tmp_path):
-    model = faultnet.CarlsonLanger(faultnet.graphs.ring(40), alpha=2.0)
-    out = tmp_path / "run.parquet"
-    rep = runner.simulate_to_parquet(
-        model,
-        2500,
-        out,
-        rng=9,
-        chunk_events=333,
-        checkpoint_interval=0,
-        progress=False,
-        transient=100,
-    )
-    ref = faultnet.simulate(model, 2500, rng=9, progress=False)
-    cat = fio.read_catalog(out)
-    pd.testing.assert_frame_equal(cat.events, ref.events, check_exact=True)
-    md = cat.metadata
-    assert md == rep.metadata
-    for key in (
-        "graph",
-        "k",
-        "sigma",
-        "alpha",
-        "dt",
-        "seed_entropy",
-        "seed_spawn_key",
-        "n_events",
-        "first_event",
-        "initial_state",
-        "n_steps",
-        "block_steps",
-    ):
-        assert md[key] == ref.metadata[key], key
-    assert md["transient"] == 100 and md["sessions"] == 1
-    assert pq.ParquetFile(out).metadata.num_row_groups >= 8  # written in parts
-    assert sorted(os.listdir(tmp_path)) == ["run.parquet"]  # checkpoint folder removed
-    # iter_catalog streams the same rows
-    streamed = pd.concat(fio.iter_catalog(out, batch_size=700), ignore_index=True)
-    pd.testing.assert_frame_equal(streamed, ref.events, check_exact=True)
-
-
-def _peak_bytes(model, n, out, chunk):
-    tracemalloc.start()
-    tracemalloc.reset_peak()
-    runner.simulate_to_parquet(
-        model, n, out, rng=4, chunk_events=chunk, checkpoint_interval=3600, progress=False
-    )
-    peak = tracemalloc.get_traced_memory()[1]
-    tracemalloc.stop()
-    return peak
-
-
-def _row_group_sizes(path):
-    meta = pq.ParquetFile(path).metadata
-    return [meta.row_group(i).num_rows for i in range(meta.num_row_groups)]
-
-
-def test_memory_stays_within_one_chunk(tmp_path):
-    """Peak memory of a long run does not grow with its length (O(N + chunk))."""
-    model = faultnet.CarlsonLanger(faultnet.graphs.ring(50))
-    # warm up: compile the kernel, import the writers
-    runner.simulate_to_parquet(
-        model, 1500, tmp_path / "warm.parquet", rng=1, chunk_events=1000, progress=False
-    )
-    chunk = 1000
-    short = _peak_bytes(model, 8_000, tmp_path / "short.parquet", chunk)
-    long = _peak_bytes(model, 40_000, tmp_path / "long.parquet", chunk)
-    full = fio.read_catalog(tmp_path / "long.parquet").events.memory_usage(deep=True).sum()
-    # each chunk file becomes one row group of the merged catalog: no chunk held more
-    assert _row_group_sizes(tmp_path / "short.parquet") == [chunk] * 8
-    assert _row_group_sizes(tmp_path / "long.parquet") == [chunk] * 40
-    assert long < 0.25 * full, (long, full)  # far below the whole catalog (2.6 MB)
-    assert long < 1.5 * short + 100_000, (short, long)  # independent of the run length

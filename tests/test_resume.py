@@ -11,15 +11,17 @@ import pandas as pd
 import pytest
 
 import faultnet
-from faultnet import runner
+from faultnet import _run_loop
+from faultnet.checkpoint import checkpoint_dir, checkpoint_status
 from faultnet.io import CatalogError, OutputExistsError, read_catalog
+from faultnet.runner import simulate_to_parquet
 
 N_BLOCKS, N_EVENTS, SEED = 200, 40_000, 11
 
 
 def _committed(out):
     try:
-        st = runner.checkpoint_status(out)
+        st = checkpoint_status(out)
     except (OSError, ValueError, KeyError):  # caught mid-rename: try again later
         return -1
     if st is None:
@@ -74,7 +76,7 @@ def test_sigkill_at_random_moments_then_resume(tmp_path):
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
     assert "resumed at event" in done.stdout or "already complete" in done.stdout
-    assert not os.path.exists(runner.checkpoint_dir(out))
+    assert not os.path.exists(checkpoint_dir(out))
     assert sorted(os.listdir(tmp_path)) == ["ring.parquet"]  # no temporary files left
     cat = read_catalog(out)
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(N_BLOCKS))
@@ -98,18 +100,38 @@ def small():
 
 def _run(model, out, **kw):
     kw = {"rng": 5, "chunk_events": 250, "checkpoint_interval": 0, "progress": False, **kw}
-    return runner.simulate_to_parquet(model, 3000, out, **kw)
+    return simulate_to_parquet(model, 3000, out, **kw)
 
 
-@pytest.mark.parametrize("where", ["after_part", "in_checkpoint", "in_merge", "in_cleanup"])
+def _crash_after(n):
+    """An ``on_commit`` hook that kills the run right after its ``n``-th commit."""
+
+    def on_commit(n_chunks):
+        if n_chunks == n:
+            raise Crash
+
+    return on_commit
+
+
+@pytest.mark.parametrize(
+    "where", ["after_commit", "after_part", "in_checkpoint", "in_merge", "in_cleanup"]
+)
 def test_crash_windows(tmp_path, monkeypatch, small, where):
-    """A crash between any two steps of the commit protocol still resumes exactly."""
+    """A crash between any two steps of the commit protocol still resumes exactly.
+
+    Between two commits the run's ``on_commit`` hook stops it.  A crash inside
+    a step (after a chunk is written but before its checkpoint, while the
+    checkpoint, the merged catalog or the cleanup is being written) needs the
+    step itself to fail: there the run loop's I/O function is replaced.
+    """
     model, ref = small
     out = tmp_path / "cat.parquet"
     calls = {"n": 0}
-
-    if where in ("after_part", "in_checkpoint"):
-        real = runner.save_checkpoint
+    kw = {}
+    if where == "after_commit":
+        kw["on_commit"] = _crash_after(5)
+    elif where in ("after_part", "in_checkpoint"):
+        real = _run_loop.save_checkpoint
 
         def save(path, *args):
             calls["n"] += 1
@@ -122,7 +144,7 @@ def test_crash_windows(tmp_path, monkeypatch, small, where):
                 raise Crash
             return real(path, *args)
 
-        monkeypatch.setattr(runner, "save_checkpoint", save)
+        monkeypatch.setattr(_run_loop, "save_checkpoint", save)
     elif where == "in_merge":
 
         def merge(parts, out_, md, overwrite=False):
@@ -130,21 +152,25 @@ def test_crash_windows(tmp_path, monkeypatch, small, where):
                 fh.write(b"PAR1")
             raise Crash
 
-        monkeypatch.setattr(runner, "merge_parts", merge)
+        monkeypatch.setattr(_run_loop, "merge_parts", merge)
     else:
 
         def remove(wd):
             os.remove(os.path.join(wd, "run.json"))
             raise Crash
 
-        monkeypatch.setattr(runner, "remove_checkpoint_dir", remove)
+        monkeypatch.setattr(_run_loop, "remove_checkpoint_dir", remove)
     with pytest.raises(Crash):
-        _run(model, out)
+        _run(model, out, **kw)
     monkeypatch.undo()
     if where == "after_part":  # a part beyond the checkpoint is on disk
-        wd = runner.checkpoint_dir(out)
+        wd = checkpoint_dir(out)
         assert "chunk-000004.parquet" in os.listdir(wd)
-        assert runner.checkpoint_status(out)["chunks"] == 4
+        assert checkpoint_status(out)["chunks"] == 4
+    if where == "after_commit":  # the checkpoint covers every chunk on disk
+        wd = checkpoint_dir(out)
+        assert "chunk-000005.parquet" not in os.listdir(wd)
+        assert checkpoint_status(out)["chunks"] == 5
     with pytest.raises(OutputExistsError, match="resume"):
         _run(model, out)  # never silently restarted or overwritten
     rep = _run(model, out, resume=True)
@@ -154,6 +180,8 @@ def test_crash_windows(tmp_path, monkeypatch, small, where):
         assert rep.status == "already complete"
     elif where == "in_merge":
         assert rep.resumed_from == 3000
+    elif where == "after_commit":
+        assert rep.resumed_from == 5 * 250
     else:
         assert 0 < rep.resumed_from < 3000
 
@@ -162,13 +190,13 @@ def test_resume_checks_parameters(tmp_path, small):
     model, ref = small
     out = tmp_path / "cat.parquet"
     with pytest.raises(Crash):
-        _crash_after(model, out, 3)
+        _run(model, out, on_commit=_crash_after(3))
     with pytest.raises(faultnet.InvalidParameterError, match="alpha|graph_hash"):
         _run(model.with_params(alpha=2.0), out, resume=True)
     with pytest.raises(faultnet.InvalidParameterError, match="seed_entropy"):
         _run(model, out, resume=True, rng=6)
     # a committed part that went missing cannot be resumed exactly
-    wd = runner.checkpoint_dir(out)
+    wd = checkpoint_dir(out)
     os.rename(os.path.join(wd, "chunk-000001.parquet"), os.path.join(wd, "moved"))
     with pytest.raises(CatalogError, match="force"):
         _run(model, out, resume=True)
@@ -177,20 +205,3 @@ def test_resume_checks_parameters(tmp_path, small):
     os.remove(os.path.join(wd, "moved"))
     _run(model, out, force=True)
     pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
-
-
-def _crash_after(model, out, n):
-    real = runner.save_checkpoint
-    calls = {"n": 0}
-
-    def save(path, *args):
-        calls["n"] += 1
-        if calls["n"] > n:
-            raise Crash
-        return real(path, *args)
-
-    runner.save_checkpoint = save
-    try:
-        _run(model, out)
-    finally:
-        runner.save_checkpoint = real

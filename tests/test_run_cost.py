@@ -1,6 +1,7 @@
 """A CLI-style run pays the fixed costs once: one Simulator, few calls, one solo integration."""
 
-from faultnet import engine, runner
+from faultnet import engine
+from faultnet.spec_run import run_from_spec
 
 
 def test_run_from_spec_pays_fixed_costs_once(tmp_path, monkeypatch):
@@ -17,8 +18,8 @@ def test_run_from_spec_pays_fixed_costs_once(tmp_path, monkeypatch):
 
     monkeypatch.setattr(engine.Simulator, "__init__", init)
     monkeypatch.setattr(engine.Simulator, "advance", advance)
-    one = runner.run_from_spec("chain:1", 1, None, alpha=1e3, seed=1, progress=False)
-    rep = runner.run_from_spec("chain:1", 3000, None, alpha=1e3, seed=1, progress=False)
+    one = run_from_spec("chain:1", 1, None, alpha=1e3, seed=1, progress=False)
+    rep = run_from_spec("chain:1", 3000, None, alpha=1e3, seed=1, progress=False)
     assert counts["init"] == 2  # one Simulator per run
     assert counts["advance"] <= 1 + 8  # calls grow from 256 events: not one call per event
     # every event of a lone block is the same solo slip: integrated once, reused after

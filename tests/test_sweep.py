@@ -8,10 +8,9 @@ import pandas as pd
 import pytest
 
 import faultnet
-from faultnet import runner
 from faultnet.exceptions import OutputExistsError, SweepError
 from faultnet.io import read_catalog, read_metadata
-from faultnet.sweep import summarize, sweep
+from faultnet.sweep import SerialExecutor, summarize, sweep
 
 SMALL = {
     "graph": ["ring:40", "chain:30"],
@@ -185,7 +184,23 @@ class Crash(BaseException):
     """A kill at a chosen instant."""
 
 
-def test_interrupted_point_is_resumed(tmp_path, monkeypatch):
+class KillPoint(SerialExecutor):
+    """Runs the points in this process; point ``index`` is killed after ``chunks`` commits."""
+
+    def __init__(self, index, chunks):
+        self.index, self.chunks = index, chunks
+
+    def _kill(self, n_chunks):
+        if n_chunks == self.chunks:
+            raise Crash
+
+    def submit(self, fn, /, *args, **kwargs):
+        if args[0]["index"] == self.index:  # run_point(point, path, ...)
+            kwargs["on_commit"] = self._kill
+        return super().submit(fn, *args, **kwargs)
+
+
+def test_interrupted_point_is_resumed(tmp_path):
     cfg = {
         "graph": "ring:30",
         "alpha": [1.0, 2.0],
@@ -194,19 +209,8 @@ def test_interrupted_point_is_resumed(tmp_path, monkeypatch):
         "chunk": 200,
         "checkpoint_interval": 0,
     }
-    real = runner.save_checkpoint
-    calls = []
-
-    def save(*args):
-        calls.append(1)
-        if len(calls) > 7:  # point 0 finishes (5 chunks), point 1 dies after 2 chunks
-            raise Crash
-        return real(*args)
-
-    monkeypatch.setattr(runner, "save_checkpoint", save)
-    with pytest.raises(Crash):
-        sweep(cfg, out=tmp_path / "x", workers=1, progress=False)
-    monkeypatch.undo()
+    with pytest.raises(Crash):  # point 0 finishes (5 chunks), point 1 dies after 2 chunks
+        sweep(cfg, out=tmp_path / "x", executor=KillPoint(1, 2), progress=False)
     assert summarize(tmp_path / "x")["status"].tolist() == ["done", "partial 400/1000"]
     messages = []
     sweep(cfg, out=tmp_path / "x", workers=1, progress=False, log=messages.append)
