@@ -31,16 +31,13 @@ at the end of the run and summarised in the closing section.
 """
 
 import os
-import sys
 
 import matplotlib
 
 matplotlib.use(os.environ.get("MPLBACKEND", "Agg"))
+import _seismicity_data as S  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import _seismicity_data as S  # noqa: E402
 from _paper_data import Table, fast_mode, header, save_figure  # noqa: E402
 
 from faultnet import seismicity_plots as sp  # noqa: E402

@@ -30,7 +30,15 @@ import numpy as np
 from faultnet._validate import check_int, check_positive
 from faultnet.exceptions import InvalidParameterError
 
-__all__ = ["CROSSINGS", "DT_COEFFICIENT", "METHODS", "RunOptions", "default_dt", "omega2_max"]
+__all__ = [
+    "CROSSINGS",
+    "DEFAULT_RTOL",
+    "DT_COEFFICIENT",
+    "METHODS",
+    "RunOptions",
+    "default_dt",
+    "omega2_max",
+]
 
 #: integration schemes inside events, and their kernel codes
 METHODS = {"rk4": 0, "dopri5": 1}
@@ -38,6 +46,8 @@ METHODS = {"rk4": 0, "dopri5": 1}
 DT_COEFFICIENT = {"rk4": 0.08, "dopri5": 0.3}
 #: RK4 is stable on an oscillator for omega*dt < 2.83; steps near it are refused
 DT_STABILITY = 2.5
+#: the default target accuracy of an event's slip (see :class:`RunOptions`)
+DEFAULT_RTOL = 1e-6
 #: crossing treatments and their kernel codes (``faultnet._kernels.layout.CTRL_CROSSINGS``)
 CROSSINGS = {"exact": 0, "interpolated": 1}
 #: an event may take at most this many steps of ``dt`` (``max_event_duration / dt``)
@@ -62,11 +72,13 @@ def _check_method(method):
 
 
 def default_dt(model, method: str = "dopri5") -> float:
-    """Default integration step: ``DT_COEFFICIENT[method] / sqrt(omega2_max(model))``.
+    """The fixed step ``DT_COEFFICIENT[method] / sqrt(omega2_max(model))``.
 
-    With the coefficients 0.3 (dopri5) and 0.08 (rk4), slip sizes of single
-    events are within 3e-7 relative of the dt -> 0 limit on the one-block,
-    two-block and ring test cases (``tests/test_convergence.py``).
+    Runs use it with ``RunOptions(rtol=None)`` and with RK4; by default the
+    step follows ``rtol`` (:func:`faultnet.accuracy.step_for_rtol`).  With the
+    coefficients 0.3 (dopri5) and 0.08 (rk4), slip sizes of single events are
+    within 3e-7 relative of the dt -> 0 limit on the one-block, two-block and
+    ring test cases (``tests/test_convergence.py``).
 
     >>> import faultnet
     >>> one = faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=2.0)
@@ -87,12 +99,16 @@ class RunOptions:
         classical RK4.  Both locate stick and join instants inside a step.
     dt : float or None
         Integration step inside events; it overrides ``rtol``.  None: from
-        ``rtol`` when given, else :func:`default_dt` of the model and method.
+        ``rtol``, or :func:`default_dt` of the model and method when ``rtol``
+        is None.
     rtol : float or None
-        Target relative accuracy of an event's slip (1e-8 to 1e-4, dopri5):
-        the step and the crossing treatment come from the calibration of
-        :func:`faultnet.accuracy.step_for_rtol` (the 90th percentile of the
-        relative S error of typical multi-block events is within rtol).
+        Target relative accuracy of an event's slip (1e-8 to 1e-4, default
+        1e-6): the step and the crossing treatment come from the calibration
+        of :func:`faultnet.accuracy.step_for_rtol` (the 90th percentile of the
+        relative S error of typical multi-block events is within rtol).  It is
+        calibrated for dopri5: with ``method="rk4"`` the default becomes None
+        (RK4's fixed default step) and another value is refused.  None: the
+        fixed step :func:`default_dt`.
     crossings : {"exact", "interpolated"} or None
         Treatment of stops (v -> 0) and joins (F -> 1) inside a step:
         ``"exact"`` redoes the step to each crossing and keeps the scheme's
@@ -119,7 +135,7 @@ class RunOptions:
 
     method: str = "dopri5"
     dt: float | None = None
-    rtol: float | None = None
+    rtol: float | None = DEFAULT_RTOL
     crossings: str | None = None
     solo_cache: bool = True
     local_regions_from: float = 32
@@ -130,6 +146,8 @@ class RunOptions:
         _check_method(self.method)
         if self.dt is not None:
             object.__setattr__(self, "dt", check_positive("dt", self.dt))
+        if self.method != "dopri5" and self.rtol == DEFAULT_RTOL:
+            object.__setattr__(self, "rtol", None)  # RK4 runs at its fixed default step
         if self.rtol is not None:
             from faultnet.accuracy import RTOL_RANGE
 

@@ -6,6 +6,7 @@ import pytest
 
 import faultnet
 from faultnet import InvalidParameterError, RunOptions
+from faultnet.accuracy import step_for_rtol
 
 
 @pytest.mark.parametrize(
@@ -38,8 +39,16 @@ def test_round_trip_and_replace():
 
 def test_step_resolution():
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(10), k=16, sigma=0.01, alpha=1.0)
-    assert RunOptions().step(model) == faultnet.default_dt(model)
+    calibrated = step_for_rtol(model, 1e-6)  # the default rtol
+    assert RunOptions().step(model) == calibrated.dt
+    assert RunOptions().treatment(model) == calibrated.crossings
+    assert RunOptions(rtol=None).step(model) == faultnet.default_dt(model)
+    assert RunOptions(rtol=None).treatment(model) == "exact"
+    # rk4 is not calibrated: the default rtol gives way to its fixed step, another is refused
+    assert RunOptions(method="rk4").rtol is None
     assert RunOptions(method="rk4").step(model) == faultnet.default_dt(model, "rk4")
+    with pytest.raises(InvalidParameterError, match="calibrated for method 'dopri5'"):
+        RunOptions(method="rk4", rtol=1e-5)
     assert RunOptions(dt=1e-3).step(model) == 1e-3
     with pytest.raises(InvalidParameterError, match="stability limit"):
         RunOptions(dt=1.0).step(model)

@@ -342,10 +342,11 @@ def _integrate(
             if local:
                 h_local = min(dt, 2.0 * h_local)
         elif interp and loc[LOC_NCAND] >= 0.0:
-            nact, ntouch = interpolated_crossings(
+            nact, ntouch, th_stop = interpolated_crossings(
                 h, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, loc, cnt
             )
-            t += h
+            # the event ends at its last stop, not at the end of the step
+            t += h if nact > 0 or th_stop <= 0.0 else th_stop * h
         else:
             done = False
             if local:

@@ -135,10 +135,13 @@ def interpolated_crossings(
     """Apply every crossing the step's scan listed (``IW[CAND]``) at the step's end; commit.
 
     Called after a DP5 step of length h with ``scan == 2`` (the list complete:
-    ``loc[LOC_NCAND] >= 0``).  Returns (nact, ntouch).
+    ``loc[LOC_NCAND] >= 0``).  Returns (nact, ntouch, th_stop): ``th_stop`` is the
+    latest stop's fraction of the step (0.0 if none stopped), the event's end when
+    no block is left slipping.
     """
     ncand = int(loc[LOC_NCAND])
     one = ncand - ncand + 1  # int64: one signature of the crossing kernels
+    th_stop = 0.0
     # first pass, on the step's own values (D, V, A -> DN, VN, AN and the stages)
     for c in range(ncand):
         b = IW[CAND, c]
@@ -150,6 +153,7 @@ def interpolated_crossings(
                 IW[CAND, c] = -1  # no stop after all
                 continue
             _stop(b, th, h, W, IW, indptr, indices, kval)
+            th_stop = max(th_stop, th)
             IW[CAND, c] = -2 - b
         elif IW[FLAG, b] != JOINING:
             if th > 1.0:
@@ -200,4 +204,4 @@ def interpolated_crossings(
         ntouch - ntouch, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
     )
     nact = stick_scan(ntouch - ntouch, nact, W, IW)
-    return nact, ntouch
+    return nact, ntouch, th_stop
