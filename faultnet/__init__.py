@@ -1,7 +1,7 @@
 """faultnet: Carlson-Langer block-spring earthquake models on networks.
 
 The pipeline reads as the module list: ``graphs`` -> ``model`` ->
-``simulate`` -> ``catalog`` (and later statistics and plots).
+``options`` -> ``engine`` -> ``catalog`` -> ``stats``, ``seismicity`` and ``plots``.
 
 >>> import faultnet
 >>> model = faultnet.CarlsonLanger(faultnet.graphs.ring(50), k=16, sigma=0.01, alpha=1.0)
@@ -10,44 +10,59 @@ The pipeline reads as the module list: ``graphs`` -> ``model`` ->
 200
 """
 
-from faultnet import dynamics, graphs, stats
 from faultnet._version import __version__
-from faultnet.catalog import SimulationResult
-from faultnet.engine import Simulator, simulate, slip_event
-from faultnet.exceptions import (
-    EventTooLongError,
-    FaultnetError,
-    InvalidParameterError,
-    NumericalInstabilityError,
-    SimulationError,
-)
-from faultnet.model import CarlsonLanger, SparseGraph
-from faultnet.options import RunOptions, default_dt
-from faultnet.state import State
-from faultnet.stats import BFit, fit_b_lsq, fit_b_mle, irregularity, magnitude_distribution
 
-# Parquet I/O, long runs and sweeps import pyarrow and friends: load on first use
-# so that ``import faultnet`` stays fast.
+# Every public name is loaded on first use: ``import faultnet`` costs almost
+# nothing, and a Ctrl-C while the command line starts lands in its own handler
+# (``faultnet.__main__``) instead of in the middle of this file's imports.
 _LAZY = {
+    "BFit": "faultnet.stats",
+    "CarlsonLanger": "faultnet.model",
+    "EventTooLongError": "faultnet.exceptions",
+    "FaultnetError": "faultnet.exceptions",
+    "InvalidParameterError": "faultnet.exceptions",
+    "NumericalInstabilityError": "faultnet.exceptions",
+    "RunOptions": "faultnet.options",
+    "SimulationError": "faultnet.exceptions",
+    "SimulationResult": "faultnet.catalog",
+    "Simulator": "faultnet.engine",
+    "SparseGraph": "faultnet.model",
+    "State": "faultnet.state",
+    "build_model": "faultnet.specs",
+    "default_dt": "faultnet.options",
+    "fit_b_lsq": "faultnet.stats",
+    "fit_b_mle": "faultnet.stats",
+    "graph_hash": "faultnet.specs",
+    "irregularity": "faultnet.stats",
+    "magnitude_distribution": "faultnet.stats",
     "read_catalog": "faultnet.io",
     "read_metadata": "faultnet.io",
-    "write_catalog": "faultnet.io",
+    "simulate": "faultnet.engine",
     "simulate_to_parquet": "faultnet.runner",
-    "build_model": "faultnet.specs",
-    "graph_hash": "faultnet.specs",
+    "slip_event": "faultnet.engine",
     "summarize": "faultnet.sweep_summary",
     "sweep": "faultnet.sweep",
+    "write_catalog": "faultnet.io",
 }
+#: submodules reachable as attributes of the package
+_SUBMODULES = ("dynamics", "graphs", "seismicity", "stats")
 
 
 def __getattr__(name):
-    if name in _LAZY:
-        import importlib
+    import importlib
 
+    if name in _LAZY:
         value = getattr(importlib.import_module(_LAZY[name]), name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'faultnet' has no attribute {name!r}")
+    elif name in _SUBMODULES:
+        value = importlib.import_module(f"faultnet.{name}")
+    else:
+        raise AttributeError(f"module 'faultnet' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
 
 
 __all__ = [
@@ -81,5 +96,6 @@ __all__ = [
     "magnitude_distribution",
     "simulate",
     "slip_event",
+    "seismicity",
     "stats",
 ]
