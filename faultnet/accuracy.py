@@ -38,7 +38,7 @@ coef    ring exact   ring interp  2-D exact    2-D interp
 For each treatment the coefficient is read off its column (log-log between the rows, the
 scheme's order below the first) at ``rtol / SAFETY``; the interpolated treatment is chosen
 when its step is at least ``SWITCH`` times the exact one's (rings 0.7, 2-D graphs 0.45:
-where it is then the faster, see ``benchmarks/NOTES.md``).  Resulting settings:
+where it is then the faster, see ``benchmarks/README.md``).  Resulting settings:
 
 ========= ============================ ================================
 rtol       rings (mean degree <= 2.5)   2-D graphs
