@@ -141,16 +141,6 @@ _write_toplevel(DOCS / "_generated" / "toplevel.rst")
 _write_cli(DOCS / "_generated" / "cli.rst")
 autosummary_context = {"shadowed_modules": _shadowed_modules()}
 
-# A user-guide page drafted separately joins the guide's table of contents once it exists.
-_OPTIONAL_GUIDE_PAGES = ["seismicity"]
-_present = [p for p in _OPTIONAL_GUIDE_PAGES if (DOCS / "guide" / f"{p}.rst").exists()]
-_write(
-    DOCS / "_generated" / "optional_guide_pages.rst",
-    ".. toctree::\n   :maxdepth: 2\n\n" + "".join(f"   {p}\n" for p in _present)
-    if _present
-    else "",
-)
-
 # ----------------------------------------------------------------------- gallery
 sphinx_gallery_conf = {
     "examples_dirs": str(ROOT / "examples"),
