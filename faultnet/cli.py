@@ -106,8 +106,13 @@ def _print_run(args, report, elapsed, out):
             file=out,
         )
     print(
-        f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']} dt={md['dt']:.6g} "
-        f"method={md['method']} seed={md['seed_entropy']}",
+        f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']} seed={md['seed_entropy']}",
+        file=out,
+    )
+    rtol = (md.get("options") or {}).get("rtol")
+    print(
+        f"numerics    {md['method']}, rtol={rtol if rtol is not None else 'none'}: "
+        f"dt={md['dt']:.6g}, {md.get('crossings', 'exact')} crossings",
         file=out,
     )
 

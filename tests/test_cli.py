@@ -254,7 +254,7 @@ def test_run_option_flags_reach_the_catalog(tmp_path, capsys):
     args = ["simulate", "ring:20", "--events", "300", "--seed", "2", "--out", str(out)]
     flags = ["--method", "rk4", "--no-solo-cache", "--local-regions-from", "inf"]
     assert main([*args, *flags, "--no-progress"]) == 0
-    assert "method=rk4" in capsys.readouterr().out
+    assert "numerics    rk4, rtol=none: dt=" in capsys.readouterr().out
     md = read_catalog(out).metadata
     assert md["options"]["method"] == "rk4" and md["options"]["solo_cache"] is False
     assert md["options"]["local_regions_from"] == "inf"
