@@ -2,7 +2,7 @@
 
 Inside large events the crossings of a step are handled in small regions
 whose boundary follows the outer step's dense output.  The oracle is the
-exact whole-event treatment (``LOCAL_REGIONS_FROM = inf``) at the same dt,
+exact whole-event treatment (``RunOptions(local_regions_from=inf)``) at the same dt,
 and the size of that treatment's own dt error (the same event at dt / 4):
 the local regions must change the result by much less than the integrator's
 own error, and must save work.
