@@ -106,7 +106,8 @@ def _print_run(args, report, elapsed, out):
             file=out,
         )
     print(
-        f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']} seed={md['seed_entropy']}",
+        f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']} "
+        f"seed={md['seed_entropy']}",
         file=out,
     )
     rtol = (md.get("options") or {}).get("rtol")
