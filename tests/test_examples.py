@@ -61,8 +61,8 @@ def test_every_figure_script_is_listed():
     assert (EXAMPLES / "README.txt").is_file()
 
 
-@pytest.mark.parametrize("script", sorted(EXPECTED))
-def test_example_runs_in_fast_mode(script, tmp_path):
+def run_fast(script, tmp_path):
+    """Run an example in fast mode with its figures and data under ``tmp_path``; its stdout."""
     env = dict(os.environ)
     env.update(
         FAULTNET_FAST="1",
@@ -81,6 +81,12 @@ def test_example_runs_in_fast_mode(script, tmp_path):
     )
     out = proc.stdout
     assert proc.returncode == 0, f"{script} failed:\n{out[-3000:]}\n{proc.stderr[-3000:]}"
+    return out
+
+
+@pytest.mark.parametrize("script", sorted(EXPECTED))
+def test_example_runs_in_fast_mode(script, tmp_path):
+    out = run_fast(script, tmp_path)
     png = tmp_path / "figures" / f"{script[5:10]}.png"  # plot_fig01_... -> fig01.png
     assert png.is_file(), f"{script} wrote no {png.name}; output:\n{out[-2000:]}"
     assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 10_000
@@ -194,24 +200,7 @@ SEISMICITY_PAGES = {
 @pytest.mark.parametrize("script", sorted(SEISMICITY_PAGES))
 def test_seismicity_page_runs_in_fast_mode(script, tmp_path):
     png, expected = SEISMICITY_PAGES[script]
-    env = dict(os.environ)
-    env.update(
-        FAULTNET_FAST="1",
-        FAULTNET_FIGURES=str(tmp_path / "figures"),
-        FAULTNET_DATA=str(tmp_path / "data"),
-        MPLBACKEND="Agg",
-        PYTHONIOENCODING="utf-8",
-    )
-    proc = subprocess.run(
-        [sys.executable, str(EXAMPLES / script)],
-        cwd=tmp_path,
-        env=env,
-        capture_output=True,
-        text=True,
-        timeout=300,
-    )
-    out = proc.stdout
-    assert proc.returncode == 0, f"{script} failed:\n{out[-3000:]}\n{proc.stderr[-3000:]}"
+    out = run_fast(script, tmp_path)
     path = tmp_path / "figures" / png
     assert path.is_file() and path.stat().st_size > 10_000
     assert "FAST mode" in out and "computed (fast" in out
