@@ -151,7 +151,7 @@ class StepChoice:
     coefficient : float
         ``dt * sqrt(omega2_max(model))``.
     crossings : {"exact", "interpolated"}
-        The treatment of stops and joins (kernel ``ctrl[5]``: :data:`CROSSINGS`).
+        The treatment of stops and joins (:data:`CROSSINGS`).
     method : str
         The scheme ("dopri5": the calibration is for it).
     """

@@ -46,11 +46,16 @@ def _kernels():
     return _kernels
 
 
-def _helper():
-    """:mod:`faultnet._compile_helper`, imported by the first run."""
-    from faultnet import _compile_helper
+def _cache_is_cold(dispatcher):
+    """True if Numba's on-disk cache holds nothing for ``dispatcher`` (any doubt: False).
 
-    return _compile_helper
+    An index written by other source code (an upgraded faultnet) counts as empty: Numba's
+    index check compares the source file's stamp.
+    """
+    try:
+        return not dispatcher._cache._cache_file._load_index()
+    except Exception:  # noqa: BLE001 - a Numba internal moved (or JIT is off): not cold
+        return False
 
 
 class Simulator:
@@ -174,7 +179,7 @@ class Simulator:
                 "sim.state for another graph"
             )
         dt = self._options.step(model)
-        self._arrays.set_parameters(model, dt, self._options.crossings_code(model))
+        self._arrays.set_parameters(model, dt)
         self._model, self._dt = model, dt
 
     # -- running -----------------------------------------------------------------------------
@@ -229,7 +234,7 @@ class Simulator:
         arr = self._arrays
         compiling = False
         if not self._checked_cache:  # reads the cache index: outside the timed loop
-            compiling = _helper().cache_is_cold(arr.kernel)
+            compiling = _cache_is_cold(arr.kernel)
             self._checked_cache = True
         K = _kernels()
         done = steps = block_steps = 0
@@ -246,7 +251,6 @@ class Simulator:
                 n_req = min(chunk, n_events - done)
                 tic = time.perf_counter()
                 status = arr.call(n_req, ev0 + done, cat_f[done:], cat_i[done:], done)
-                _helper().stop()  # compiled (or loaded) by now
                 if compiling:  # the bar's clock and rate count the simulation only
                     bar.unpause()
                     bar.set_description_str("faultnet")

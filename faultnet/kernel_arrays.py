@@ -17,7 +17,6 @@ from faultnet._kernels.layout import (
     CNT_SLIP_ROWS,
     CNT_TRACE_FULL,
     CNT_TRACE_ROWS,
-    CTRL_CROSSINGS,
     CTRL_DT,
     CTRL_LOCAL_FROM,
     CTRL_MAX_DURATION,
@@ -28,6 +27,7 @@ from faultnet._kernels.layout import (
     SCAL_OFFSET,
     SCAL_SIZE,
     SCAL_W,
+    SOLO_SIZE,
 )
 from faultnet._validate import generator_and_seed
 from faultnet.catalog import SimulationResult
@@ -179,11 +179,7 @@ class KernelArrays:
         self.n_events = state.n_events
         self.keys = np.empty(n, dtype=np.float64)
         self.tree = K.empty_tree(n)
-        # one entry kernel per scheme: a run compiles only its own scheme's code
-        self.kernel = K.run_events_rk4 if options.method == "rk4" else K.run_events_dopri5
-        from faultnet import _compile_helper
-
-        _compile_helper.start(self.kernel)  # a cold cache: a second core compiles too
+        self.options = options
         # block-major work space: one block's rows share cache lines
         self.W = np.zeros((n, K.N_WORK_DOPRI), dtype=np.float64)
         self.IW = np.zeros((K.N_IWORK, n), dtype=np.int64)
@@ -191,7 +187,6 @@ class KernelArrays:
         self.ctrl[CTRL_MAX_DURATION] = options.max_event_duration
         self.ctrl[CTRL_MAX_VELOCITY] = options.max_velocity
         self.ctrl[CTRL_SOLO_CACHE] = float(options.solo_cache)
-        self.ctrl[CTRL_LOCAL_FROM] = float(options.local_regions_from)
         self.cnt = np.zeros(CNT_SIZE, dtype=np.int64)
         # local-region context (boundary, times) and the boundary's dense coefficients
         self.loc = np.zeros(K.LOC_SIZE, dtype=np.float64)
@@ -203,28 +198,29 @@ class KernelArrays:
         rows = max_trace_rows if trace_idx.size else 0
         self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
         self.profiles = np.zeros((0, 0), dtype=np.float64)
-        self.set_parameters(model, dt, options.crossings_code(model))
+        self.set_parameters(model, dt)
 
     def _slip_buffers(self, cap):
         self.slip_e = np.zeros(cap, dtype=np.int64)
         self.slip_n = np.zeros(cap, dtype=np.int64)
         self.slip_v = np.zeros(cap, dtype=np.float64)
 
-    def set_parameters(self, model, dt, crossings=0):
+    def set_parameters(self, model, dt):
         """Per-block parameters of ``model``, a fresh solo cache and keys consistent with z.
 
-        ``dt`` and ``crossings`` (the kernel code of the crossing treatment) may
-        follow the model: both come from :meth:`RunOptions.step` / ``treatment``.
+        ``dt`` (from :meth:`RunOptions.step`), the crossing treatment and with it the entry
+        kernel (:meth:`RunOptions.entry`) may follow the model.
         """
         self.kval = model.adjacency.data.astype(np.float64)
         self.diag = model.stiffness.astype(np.float64)
         self.oms = 1.0 - model.sigma_values
         self.cfr = 2.0 * model.alpha_values / self.oms
         self.ctrl[CTRL_DT] = dt
-        self.ctrl[CTRL_CROSSINGS] = float(crossings)
+        self.ctrl[CTRL_LOCAL_FROM] = self.options.regions_from(model)
+        self.kernel = getattr(_kernels(), self.options.entry(model))
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
         self.cls = model.block_classes
-        self.solo = np.full((int(self.cls.max()) + 1, 3), np.nan)
+        self.solo = np.full((int(self.cls.max()) + 1, SOLO_SIZE), np.nan)
         _kernels().build_keys_and_tree(
             self.z, self.indptr, self.indices, self.kval, self.diag, self.keys, self.tree
         )

@@ -34,6 +34,7 @@ __all__ = [
     "CROSSINGS",
     "DEFAULT_RTOL",
     "DT_COEFFICIENT",
+    "LOCAL_REGIONS_FROM",
     "METHODS",
     "RunOptions",
     "default_dt",
@@ -48,8 +49,11 @@ DT_COEFFICIENT = {"rk4": 0.08, "dopri5": 0.3}
 DT_STABILITY = 2.5
 #: the default target accuracy of an event's slip (see :class:`RunOptions`)
 DEFAULT_RTOL = 1e-6
-#: crossing treatments and their kernel codes (``faultnet._kernels.layout.CTRL_CROSSINGS``)
-CROSSINGS = {"exact": 0, "interpolated": 1}
+#: with ``local_regions_from=None``, 2-D graphs handle events of this many slipping blocks or
+#: more in local regions
+LOCAL_REGIONS_FROM = 32
+#: crossing treatments (each has its entry kernel, see :meth:`RunOptions.entry`)
+CROSSINGS = ("exact", "interpolated")
 #: an event may take at most this many steps of ``dt`` (``max_event_duration / dt``)
 MAX_STEPS_PER_EVENT = 1e9
 
@@ -120,13 +124,16 @@ class RunOptions:
         stiffness, sigma and alpha: integrate it once per such parameter class
         and reuse it (True, default), or integrate every event (False, the
         reference in tests).
-    local_regions_from : int or float("inf")
-        Events with at least this many slipping blocks handle the crossings
-        of a step in small local regions (DP5 only): far fewer block-steps in
-        large 2-D events, with each region's change neglected outside it
-        (their S error against dt -> 0 is 1.1-2.4 times the whole-event
-        treatment's at the same dt, ``tests/test_local.py``).  ``inf``: always
-        the exact whole-event treatment.
+    local_regions_from : int, float("inf") or None
+        With exact crossings (DP5), events with at least this many slipping
+        blocks handle the crossings of a step in small local regions: far
+        fewer block-steps in large 2-D events, with each region's change
+        neglected outside it (their S error against dt -> 0 is 1.1-2.4 times
+        the whole-event treatment's at the same dt, ``tests/test_local.py``).
+        ``inf``: always the whole-event treatment.  None (default):
+        :data:`LOCAL_REGIONS_FROM` blocks on 2-D graphs, ``inf`` on rings and
+        chains, where regions save nothing (rings of 2,000 blocks at alpha 1
+        and 0.25 ran as fast without them).
     max_event_duration : float
         An event lasting longer (time units) stops the run with an error.
     max_velocity : float
@@ -138,7 +145,7 @@ class RunOptions:
     rtol: float | None = DEFAULT_RTOL
     crossings: str | None = None
     solo_cache: bool = True
-    local_regions_from: float = 32
+    local_regions_from: float | None = None
     max_event_duration: float = 1e4
     max_velocity: float = 1e3
 
@@ -163,7 +170,7 @@ class RunOptions:
             object.__setattr__(self, "rtol", rtol)
         if self.crossings is not None and self.crossings not in CROSSINGS:
             raise InvalidParameterError(
-                f"crossings must be one of {sorted(CROSSINGS)} or None; got {self.crossings!r}"
+                f"crossings must be one of {list(CROSSINGS)} or None; got {self.crossings!r}"
             )
         if self.crossings == "interpolated" and self.method != "dopri5":
             raise InvalidParameterError("crossings='interpolated' needs method 'dopri5'")
@@ -173,7 +180,7 @@ class RunOptions:
             )
         object.__setattr__(self, "solo_cache", bool(self.solo_cache))
         lr = self.local_regions_from
-        if not (isinstance(lr, float) and lr == math.inf):
+        if lr is not None and not (isinstance(lr, float) and lr == math.inf):
             lr = check_int("local_regions_from", lr, minimum=1)
         object.__setattr__(self, "local_regions_from", lr)
         for name in ("max_event_duration", "max_velocity"):
@@ -221,9 +228,28 @@ class RunOptions:
             return self._calibrated(model).crossings
         return "exact"
 
-    def crossings_code(self, model) -> int:
-        """The kernel code of :meth:`treatment` (``faultnet._kernels.layout.CTRLCROSSINGS``)."""
-        return CROSSINGS[self.treatment(model)]
+    def regions_from(self, model) -> float:
+        """:attr:`local_regions_from` for ``model``, resolved (``inf``: no local regions)."""
+        if self.local_regions_from is not None:
+            return float(self.local_regions_from)
+        from faultnet.accuracy import graph_class
+
+        return float(LOCAL_REGIONS_FROM) if graph_class(model) == "2-D" else math.inf
+
+    def entry(self, model) -> str:
+        """Name of the entry kernel (:mod:`faultnet._kernels.events`) of a run of ``model``.
+
+        Each (scheme, crossing treatment) has its own, so that a run compiles only its own
+        code; local regions only where an event could form one (at least
+        :meth:`regions_from` slipping blocks and fewer than a quarter of the blocks).
+        """
+        if self.method == "rk4":
+            return "run_events_rk4"
+        if self.treatment(model) == "interpolated":
+            return "run_events_dopri5_interpolated"
+        if 4 * self.regions_from(model) < model.n:
+            return "run_events_dopri5_local"
+        return "run_events_dopri5"
 
     def replace(self, **changes) -> RunOptions:
         """A copy with ``changes`` applied (and validated)."""

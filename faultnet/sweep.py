@@ -32,7 +32,6 @@ import numpy as np
 import pandas as pd
 from tqdm.auto import tqdm
 
-from faultnet._system import usable_cores
 from faultnet.exceptions import (
     CatalogError,
     ConfigError,
@@ -126,11 +125,18 @@ def _local_pool(workers):
     )
 
 
-def _init_worker(sweep_pid):
-    """Set up a pool worker: no compile helper, and exit when the sweep's process dies.
+def _usable_cores():
+    """Cores this process may run on (its CPU affinity where the OS tells), at least 1."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
 
-    Pool workers are one process per core already, so no second process
-    compiles for them.  A thread watches the sweep's process (and the
+
+def _init_worker(sweep_pid):
+    """Set up a pool worker: exit when the sweep's process dies.
+
+    A thread watches the sweep's process (and the
     worker's own parent): when either is gone, the worker exits at once
     instead of writing on as an orphan.  Its chunk and checkpoint writes are
     atomic, and its lock is stale once it is gone, so a rerun resumes.
@@ -138,10 +144,8 @@ def _init_worker(sweep_pid):
     import threading
     import time
 
-    from faultnet import _compile_helper
     from faultnet.lock import _alive
 
-    os.environ[_compile_helper.ENV] = "0"
     parent = os.getppid()
 
     def watch():
@@ -170,7 +174,7 @@ def _executor(executor, scheduler, workers, n_tasks):
         finally:
             client.close()
         return
-    n = workers if workers is not None else usable_cores()
+    n = workers if workers is not None else _usable_cores()
     n = max(1, min(int(n), n_tasks))
     if n == 1:
         yield SerialExecutor(), "this process"

@@ -1,5 +1,6 @@
 """simulate / slip_event: catalog, recordings, exact continuation, bad input, failures."""
 
+import numba
 import numpy as np
 import pandas as pd
 import pytest
@@ -227,3 +228,32 @@ def test_options_are_recorded_and_change_results():
     assert faultnet.RunOptions.from_dict(res.metadata["options"]) == exact
     assert res.metadata["solo_events"] == 0
     assert faultnet.simulate(model, 200, rng=1, progress=False).metadata["solo_events"] > 0
+
+
+@numba.njit(cache=True)
+def _never_compiled(x):
+    return x + 1
+
+
+def test_cache_is_cold():
+    from faultnet.engine import _cache_is_cold
+
+    assert _cache_is_cold(_never_compiled)  # nothing in its on-disk cache
+    faultnet.simulate(faultnet.CarlsonLanger(faultnet.graphs.ring(10)), 2, rng=1, progress=False)
+    from faultnet import _kernels
+
+    assert not _cache_is_cold(_kernels.run_events_dopri5)  # just compiled
+    assert not _cache_is_cold(_never_compiled.py_func)  # no JIT: never cold
+
+
+def test_progress_bar_says_when_the_first_run_compiles(monkeypatch, capsys):
+    from faultnet import engine
+
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
+    faultnet.simulate(model, 2, rng=1, progress=False)  # compiled and cached from here on
+    capsys.readouterr()
+    faultnet.simulate(model, 5, rng=1, progress=True)
+    assert engine.COMPILING_LABEL not in capsys.readouterr().err
+    monkeypatch.setattr(engine, "_cache_is_cold", lambda kernel: True)  # a cold cache
+    faultnet.simulate(model, 5, rng=1, progress=True)
+    assert engine.COMPILING_LABEL in capsys.readouterr().err

@@ -55,3 +55,23 @@ def test_step_resolution():
     # a step that cannot finish an event in a bounded number of steps is refused
     with pytest.raises(InvalidParameterError, match="too small"):
         RunOptions(dt=1e-300).step(model)
+
+
+def test_each_run_gets_the_entry_kernel_of_its_scheme_and_treatment():
+    ring = faultnet.CarlsonLanger(faultnet.graphs.ring(2000))
+    lattice = faultnet.CarlsonLanger(faultnet.graphs.square_lattice(30, 30, periodic=True))
+    small = faultnet.CarlsonLanger(faultnet.graphs.square_lattice(8, 8, periodic=True))
+    default = RunOptions()
+    # rings: exact crossings, no local regions (they save nothing there)
+    assert default.treatment(ring) == "exact"
+    assert default.regions_from(ring) == math.inf
+    assert default.entry(ring) == "run_events_dopri5"
+    # 2-D graphs: interpolated at the default rtol; regions from 32 blocks with exact crossings
+    assert default.entry(lattice) == "run_events_dopri5_interpolated"
+    assert default.regions_from(lattice) == 32
+    assert RunOptions(rtol=1e-8).entry(lattice) == "run_events_dopri5_local"
+    # a graph too small for any region (4 x 32 blocks or fewer) skips their code
+    assert RunOptions(rtol=1e-8).entry(small) == "run_events_dopri5"
+    # an explicit value holds on any graph
+    assert RunOptions(local_regions_from=8).entry(ring) == "run_events_dopri5_local"
+    assert RunOptions(method="rk4").entry(lattice) == "run_events_rk4"

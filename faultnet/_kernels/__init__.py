@@ -22,6 +22,8 @@ _NAMES = {
     "build_keys_and_tree": "tree",
     "empty_tree": "tree",
     "run_events_dopri5": "events",
+    "run_events_dopri5_interpolated": "events",
+    "run_events_dopri5_local": "events",
     "run_events_rk4": "events",
 }
 

@@ -1,0 +1,135 @@
+"""Free single-block slips: an event whose hypocentre slips alone, computed once and reused.
+
+A block that starts from rest at the threshold while every neighbour is held follows a path
+that depends only on its own stiffness, sigma and alpha.  The event loop
+(:mod:`faultnet._kernels.events`) integrates it once per such parameter class
+(:func:`solo_slip`), then takes every later event of the class from the cache when
+:func:`solo_free` shows that no neighbour reaches the threshold during it
+(:func:`solo_apply`).
+"""
+
+import numpy as np
+
+from faultnet._kernels.integrate import (
+    ACT,
+    ACTIVE,
+    APOS,
+    F0,
+    FLAG,
+    P2,
+    TOUCH,
+    UNTOUCHED,
+    VN,
+    A,
+    D,
+    P,
+    V,
+    accel,
+)
+from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.layout import (
+    CNT_BLOCK_STEPS,
+    CNT_INTERPOLATED_CROSSINGS,
+    CNT_LANDED_JOINS,
+    CNT_PARTIAL_BLOCK_STEPS,
+    CNT_RELOCATIONS,
+    CNT_SLIP_ROWS,
+    CNT_SOLO_EVENTS,
+)
+from faultnet._kernels.tree import block_key, tree_update
+
+__all__ = ["SOLO_MARGIN", "solo_apply", "solo_free", "solo_slip"]
+
+#: a neighbour's force must stay this far below 1 for a free single-block slip
+SOLO_MARGIN = 1e-12
+
+
+#: the starting force that keeps a neighbour out of a solo slip
+_HELD = -1e300
+
+
+@inline_kernel
+def solo_slip(
+    integrate, method, i, ev, scal, z, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
+    loc, trace_nodes, trace_buf, cnt,
+):  # fmt: skip
+    """Slip of block i alone: from rest at the threshold, every neighbour held.
+
+    Integrated by the run's own ``integrate`` (:mod:`faultnet._kernels.slip`), with the
+    neighbours' starting forces set to -1e300 so that none can join (starting
+    forces are written afresh whenever a block is touched).  Such a slip
+    depends only on the block's own parameters (stiffness, sigma, alpha), so
+    it is computed once per parameter class and reused.  Leaves the work
+    arrays as it found them.  Returns (slip, duration, steps, status).
+    """
+    for p in range(indptr[i], indptr[i + 1]):
+        W[indices[p], F0] = _HELD
+    W[i, F0] = 1.0
+    IW[ACT, 0] = i
+    IW[APOS, i] = 0
+    IW[FLAG, i] = ACTIVE
+    IW[TOUCH, 0] = i
+    W[i, V] = 0.0
+    W[i, VN] = 0.0
+    W[i, A] = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
+    # work counters: a cached solo slip is set-up, not part of any event (so
+    # a run's counters do not depend on how it was cut into calls)
+    saved = (
+        cnt[CNT_BLOCK_STEPS],
+        cnt[CNT_PARTIAL_BLOCK_STEPS],
+        cnt[CNT_RELOCATIONS],
+        cnt[CNT_LANDED_JOINS],
+        cnt[CNT_INTERPOLATED_CROSSINGS],
+    )
+    one = np.int64(1)  # not the literal 1: integrate keeps one compiled signature
+    status, t, n, _ = integrate(
+        method, ev, one, one, 0.0, keys, scal, z, W, IW, indptr, indices, kval, diag, oms, cfr,
+        ctrl, loc, trace_nodes, trace_buf, cnt,
+    )  # fmt: skip
+    cnt[CNT_BLOCK_STEPS] = saved[0]
+    cnt[CNT_PARTIAL_BLOCK_STEPS] = saved[1]
+    cnt[CNT_RELOCATIONS] = saved[2]
+    cnt[CNT_LANDED_JOINS] = saved[3]
+    cnt[CNT_INTERPOLATED_CROSSINGS] = saved[4]
+    s = W[i, D]
+    W[i, D] = 0.0
+    W[i, P] = 0.0
+    W[i, P2] = 0.0
+    W[i, V] = 0.0
+    W[i, VN] = 0.0
+    IW[FLAG, i] = UNTOUCHED
+    return s, t, n, status
+
+
+@kernel
+def solo_free(hyp, s1, w, keys, indptr, indices, kval):
+    """True when slipping s1 alone leaves every neighbour of hyp below threshold.
+
+    The slip is monotone, so a neighbour's force is largest at the end:
+    F_j = 1 + w - key_j + k_ij s1.
+    """
+    for p in range(indptr[hyp], indptr[hyp + 1]):
+        if 1.0 + w - keys[indices[p]] + kval[p] * s1 >= 1.0 - SOLO_MARGIN:
+            return False
+    return True
+
+
+@kernel
+def solo_apply(
+    hyp, s1, ev, z, keys, tree, indptr, indices, kval, diag, slip_ev, slip_nd, slip_v, cnt
+):
+    """Commit a free single-block slip: move the block, refresh its and its neighbours' keys."""
+    z[hyp] += s1
+    keys[hyp] = block_key(hyp, z, indptr, indices, kval, diag)
+    tree_update(hyp, keys, tree)
+    for p in range(indptr[hyp], indptr[hyp + 1]):
+        j = indices[p]
+        keys[j] = block_key(j, z, indptr, indices, kval, diag)
+        tree_update(j, keys, tree)
+    if slip_v.shape[0] > 0:
+        row = cnt[CNT_SLIP_ROWS]
+        slip_ev[row] = ev
+        slip_nd[row] = hyp
+        slip_v[row] = s1
+        cnt[CNT_SLIP_ROWS] = row + 1
+    cnt[CNT_SOLO_EVENTS] += 1
