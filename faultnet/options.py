@@ -49,8 +49,8 @@ DT_COEFFICIENT = {"rk4": 0.08, "dopri5": 0.3}
 DT_STABILITY = 2.5
 #: the default target accuracy of an event's slip (see :class:`RunOptions`)
 DEFAULT_RTOL = 1e-6
-#: with ``local_regions_from=None``, 2-D graphs handle events of this many slipping blocks or
-#: more in local regions
+#: with ``local_regions_from=None``, graphs with a block of three or more neighbours handle
+#: events of this many slipping blocks or more in local regions
 LOCAL_REGIONS_FROM = 32
 #: crossing treatments (each has its entry kernel, see :meth:`RunOptions.entry`)
 CROSSINGS = ("exact", "interpolated")
@@ -131,9 +131,10 @@ class RunOptions:
         neglected outside it (their S error against dt -> 0 is 1.1-2.4 times
         the whole-event treatment's at the same dt, ``tests/test_local.py``).
         ``inf``: always the whole-event treatment.  None (default):
-        :data:`LOCAL_REGIONS_FROM` blocks on 2-D graphs, ``inf`` on rings and
-        chains, where regions save nothing (rings of 2,000 blocks at alpha 1
-        and 0.25 ran as fast without them).
+        :data:`LOCAL_REGIONS_FROM` blocks, or ``inf`` on graphs without a block
+        of three or more neighbours (rings and chains), where regions save
+        nothing (rings of 2,000 blocks at alpha 1 and 0.25 ran as fast without
+        them) and their code need not be compiled.
     max_event_duration : float
         An event lasting longer (time units) stops the run with an error.
     max_velocity : float
@@ -232,9 +233,8 @@ class RunOptions:
         """:attr:`local_regions_from` for ``model``, resolved (``inf``: no local regions)."""
         if self.local_regions_from is not None:
             return float(self.local_regions_from)
-        from faultnet.accuracy import graph_class
-
-        return float(LOCAL_REGIONS_FROM) if graph_class(model) == "2-D" else math.inf
+        degrees = np.diff(model.adjacency.indptr)
+        return float(LOCAL_REGIONS_FROM) if degrees.size and degrees.max() > 2 else math.inf
 
     def entry(self, model) -> str:
         """Name of the entry kernel (:mod:`faultnet._kernels.events`) of a run of ``model``.

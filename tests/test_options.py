@@ -2,11 +2,12 @@
 
 import math
 
+import networkx as nx
 import pytest
 
 import faultnet
 from faultnet import InvalidParameterError, RunOptions
-from faultnet.accuracy import step_for_rtol
+from faultnet.accuracy import graph_class, step_for_rtol
 
 
 @pytest.mark.parametrize(
@@ -62,11 +63,14 @@ def test_each_run_gets_the_entry_kernel_of_its_scheme_and_treatment():
     lattice = faultnet.CarlsonLanger(faultnet.graphs.square_lattice(30, 30, periodic=True))
     small = faultnet.CarlsonLanger(faultnet.graphs.square_lattice(8, 8, periodic=True))
     default = RunOptions()
-    # rings: exact crossings, no local regions (they save nothing there)
+    # rings (no block with three neighbours): exact crossings, no local regions
     assert default.treatment(ring) == "exact"
     assert default.regions_from(ring) == math.inf
     assert default.entry(ring) == "run_events_dopri5"
-    # 2-D graphs: interpolated at the default rtol; regions from 32 blocks with exact crossings
+    # 2-D graphs: interpolated at the default rtol; regions from 32 blocks with exact crossings,
+    # also on a sparse graph that the calibration counts as ring-like (mean degree <= 2.5)
+    tree = faultnet.CarlsonLanger(nx.balanced_tree(2, 8))
+    assert graph_class(tree) == "ring" and default.entry(tree) == "run_events_dopri5_local"
     assert default.entry(lattice) == "run_events_dopri5_interpolated"
     assert default.regions_from(lattice) == 32
     assert RunOptions(rtol=1e-8).entry(lattice) == "run_events_dopri5_local"
