@@ -79,11 +79,11 @@ def save(wid, path, min_blocks, count, events, transient_t):
     )
 
 
-def time_events(path, repeat, local_from=None):
+def time_events(path, repeat, local_from=None, rtol=None):
     """Each saved event alone; returns the row printed (a dict)."""
     import faultnet
 
-    options = faultnet.RunOptions()
+    options = faultnet.RunOptions() if rtol is None else faultnet.RunOptions(rtol=rtol)
     if local_from is not None:
         options = options.replace(local_regions_from=local_from)
 
@@ -112,7 +112,8 @@ def time_events(path, repeat, local_from=None):
         "workload": wid,
         "code": os.path.dirname(os.path.dirname(faultnet.__file__)),
         "events": len(states),
-        "local_regions_from": float(options.local_regions_from),
+        "rtol": options.rtol,
+        "local_regions_from": options.regions_from(model),
         "loop_s": loop,
         "ns_per_block_step": 1e9 * loop / work["block_steps"],
         **work,
@@ -120,7 +121,7 @@ def time_events(path, repeat, local_from=None):
         "max_rel_dS": float(np.max(np.abs(np.array(slips) / d["S"] - 1.0))),
     }
     print(
-        f"{wid} {row['code']} (regions from {row['local_regions_from']:g}): "
+        f"{wid} {row['code']} (rtol {row['rtol']:g}, regions from {row['local_regions_from']:g}): "
         f"{row['events']} events {loop:.3f} s, "
         f"{work['block_steps']:,} block-steps ({row['ns_per_block_step']:.1f} ns each), "
         + ", ".join(f"{k} {work[k]:,}" for k in COUNTERS)
@@ -146,8 +147,9 @@ def main(argv=None):
     tm.add_argument(
         "--local-from",
         type=float,
-        help="RunOptions.local_regions_from for this run (default 32)",
+        help="RunOptions.local_regions_from for this run (default: the model's)",
     )
+    tm.add_argument("--rtol", type=float, help="RunOptions.rtol for this run (default 1e-6)")
     args = ap.parse_args(argv)
     if args.cmd == "save":
         if args.min_blocks < 1 or args.count < 1 or args.events < 1:
@@ -158,7 +160,7 @@ def main(argv=None):
         return
     if args.repeat < 1:
         ap.error("--repeat must be >= 1")
-    row = time_events(args.path, args.repeat, args.local_from)
+    row = time_events(args.path, args.repeat, args.local_from, args.rtol)
     if args.json:
         with open(args.json, "a") as fh:
             fh.write(json.dumps(row) + "\n")
