@@ -339,7 +339,8 @@ def _run_option_flags(p):
         "--local-regions-from",
         type=_local_from,
         metavar="N|inf",
-        help="slipping blocks from which crossings are handled in local regions (32)",
+        help="slipping blocks from which exact crossings are handled in local regions "
+        "(32; off on rings and chains)",
     )
     g.add_argument("--max-event-duration", type=_finite, metavar="T", help="guard (1e4)")
     g.add_argument("--max-velocity", type=_finite, metavar="V", help="guard (1e3)")

@@ -34,7 +34,7 @@ __all__ = [
     "CROSSINGS",
     "DEFAULT_RTOL",
     "DT_COEFFICIENT",
-    "LOCAL_REGIONS_FROM",
+    "DEFAULT_LOCAL_REGIONS_FROM",
     "METHODS",
     "RunOptions",
     "default_dt",
@@ -51,7 +51,7 @@ DT_STABILITY = 2.5
 DEFAULT_RTOL = 1e-6
 #: with ``local_regions_from=None``, graphs with a block of three or more neighbours handle
 #: events of this many slipping blocks or more in local regions
-LOCAL_REGIONS_FROM = 32
+DEFAULT_LOCAL_REGIONS_FROM = 32
 #: crossing treatments (each has its entry kernel, see :meth:`RunOptions.entry`)
 CROSSINGS = ("exact", "interpolated")
 #: an event may take at most this many steps of ``dt`` (``max_event_duration / dt``)
@@ -131,7 +131,7 @@ class RunOptions:
         neglected outside it (their S error against dt -> 0 is 1.1-2.4 times
         the whole-event treatment's at the same dt, ``tests/test_local.py``).
         ``inf``: always the whole-event treatment.  None (default):
-        :data:`LOCAL_REGIONS_FROM` blocks, or ``inf`` on graphs without a block
+        :data:`DEFAULT_LOCAL_REGIONS_FROM` blocks, or ``inf`` on graphs without a block
         of three or more neighbours (rings and chains), where regions save
         nothing (rings of 2,000 blocks at alpha 1 and 0.25 ran as fast without
         them) and their code need not be compiled.
@@ -234,7 +234,7 @@ class RunOptions:
         if self.local_regions_from is not None:
             return float(self.local_regions_from)
         degrees = np.diff(model.adjacency.indptr)
-        return float(LOCAL_REGIONS_FROM) if degrees.size and degrees.max() > 2 else math.inf
+        return float(DEFAULT_LOCAL_REGIONS_FROM) if degrees.size and degrees.max() > 2 else math.inf
 
     def entry(self, model) -> str:
         """Name of the entry kernel (:mod:`faultnet._kernels.events`) of a run of ``model``.
