@@ -17,7 +17,9 @@ its end, from what the step has already computed:
   ``k ∫ dx_b`` and ``k ∫∫ dx_b`` of the force they missed (integrals of the dense
   polynomial, or of the Taylor start).
 
-Each crossing then costs a few passes over a handful of blocks instead of a partial step.
+Then every stuck block within two springs of a crossing block whose force has reached 1 joins
+at the end of the step (nothing farther has moved since the step's scan listed the joins).
+Each crossing costs a few passes over a handful of blocks instead of a partial step.
 The neglected terms are the neighbours' own response to their correction over the rest of
 the step and the dense output's error: the S error of an event grows like ``dt^4`` per
 crossing, against ``dt^5`` for the exact treatment (``faultnet.accuracy`` calibrates
@@ -37,6 +39,7 @@ from faultnet._kernels.integrate import (
     P2,
     SA,
     SV,
+    UNTOUCHED,
     VN,
     A,
     D,
@@ -45,8 +48,8 @@ from faultnet._kernels.integrate import (
     accel,
     force,
 )
-from faultnet._kernels.jit import kernel
-from faultnet._kernels.stepping import activate, deactivate, join_scan, stick_scan
+from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.stepping import activate, deactivate, stick_scan
 from faultnet._kernels.tableau import KA, KV, slot_dense
 
 __all__ = ["JOINING", "interpolated_crossings"]
@@ -128,6 +131,40 @@ def _refresh(b, W, IW, indptr, indices, kval, diag, oms, cfr):
             W[n, A] = accel(n, P, V, W, indptr, indices, kval, diag, oms, cfr)
 
 
+@inline_kernel
+def _join_at_threshold(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Activate touched stuck block j if its force is >= 1.  Returns (nact, ntouch)."""
+    flag = IW[FLAG, j]
+    if flag != ACTIVE and flag != UNTOUCHED and force(j, D, W, indptr, indices, kval, diag) >= 1.0:
+        return activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
+    return nact, ntouch
+
+
+@kernel
+def _joins_near(b, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+    """Joins at the end of a step near crossing block b: b and the blocks within two springs.
+
+    After the step's scan listed every join, only b (stopped or started) and its neighbours
+    (their ends corrected, :func:`_correct`) moved, so a stuck block that reaches the
+    threshold now is within two springs of some crossing block: scanning there finds every
+    block a scan of the whole event would (the whole event's scan cost a sixth of the time on
+    a 150^2 lattice at rtol 2e-5), in the order of the crossings.
+    """
+    nact, ntouch = _join_at_threshold(
+        b, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+    )
+    for p in range(indptr[b], indptr[b + 1]):
+        n = indices[p]
+        nact, ntouch = _join_at_threshold(
+            n, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+        )
+        for r in range(indptr[n], indptr[n + 1]):
+            nact, ntouch = _join_at_threshold(
+                indices[r], nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
+            )
+    return nact, ntouch
+
+
 @kernel
 def interpolated_crossings(
     h, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, loc, cnt
@@ -200,8 +237,12 @@ def interpolated_crossings(
             _refresh(b, W, IW, indptr, indices, kval, diag, oms, cfr)
             if IW[FLAG, b] == ACTIVE:
                 W[b, A] = accel(b, P, V, W, indptr, indices, kval, diag, oms, cfr)
-    nact, ntouch = join_scan(
-        ntouch - ntouch, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-    )
+    for c in range(ncand):
+        e = IW[CAND, c]
+        if e != -1:
+            nact, ntouch = _joins_near(
+                -2 - e if e <= -2 else e, nact, ntouch, w, keys, W, IW, indptr, indices, kval,
+                diag, oms, cfr,
+            )  # fmt: skip
     nact = stick_scan(ntouch - ntouch, nact, W, IW)
     return nact, ntouch, th_stop
