@@ -10,6 +10,7 @@ per coefficient: ``faultnet.accuracy.CALIBRATION`` holds it::
 
     PYTHONPATH=. python benchmarks/calibrate.py             # W1-W6, 60 events, ~5 minutes
     PYTHONPATH=. python benchmarks/calibrate.py W1 --events 30
+    PYTHONPATH=. python benchmarks/calibrate.py W4 W5 W6 --events 150 --treatments interpolated
 """
 
 from __future__ import annotations
@@ -27,7 +28,7 @@ COEFFICIENTS = {
 }
 
 
-def errors(wid, count, transient_t=2.0):
+def errors(wid, count, transient_t=2.0, treatments=tuple(COEFFICIENTS)):
     """{treatment: {coefficient: p90}} on ``count`` multi-block events of workload ``wid``."""
     import faultnet
     from faultnet.accuracy import StepChoice
@@ -40,9 +41,9 @@ def errors(wid, count, transient_t=2.0):
     ref = _fine_S(model, states)
     root = omega2_max(model) ** 0.5
     out = {}
-    for crossings, coefs in COEFFICIENTS.items():
+    for crossings in treatments:
         out[crossings] = {}
-        for c in coefs:
+        for c in COEFFICIENTS[crossings]:
             S = _fn_S(model, states, StepChoice(c / root, c, crossings))
             out[crossings][c] = float(np.quantile(np.abs(S / ref - 1.0), 0.9))
             print(f"{wid} {crossings:12} {c:5.3f} {out[crossings][c]:.2e}", flush=True)
@@ -54,10 +55,14 @@ def main(argv=None):
     ap.add_argument("ids", nargs="*", help="workloads (default: W1..W6)")
     ap.add_argument("--events", type=int, default=60, help="multi-block events per workload")
     ap.add_argument("--json", help="write {workload: {treatment: {coef: p90}}} to this file")
+    ap.add_argument(
+        "--treatments", nargs="*", choices=list(COEFFICIENTS), default=list(COEFFICIENTS)
+    )
     args = ap.parse_args(argv)
     ids = args.ids or sorted(WORKLOADS)
-    table = {wid: errors(wid, args.events) for wid in ids}
-    for crossings, coefs in COEFFICIENTS.items():
+    table = {wid: errors(wid, args.events, treatments=args.treatments) for wid in ids}
+    for crossings in args.treatments:
+        coefs = COEFFICIENTS[crossings]
         print(f"\n{crossings}: 90th percentile of |S/S_true - 1|")
         print(f"{'coef':>6} " + " ".join(f"{w:>8}" for w in ids) + f" {'worst':>8}")
         for c in coefs:

@@ -18,36 +18,39 @@ Two crossing treatments (``faultnet._kernels``):
 coefficient / sqrt(omega2_max)), measured by::
 
     PYTHONPATH=. python benchmarks/calibrate.py      # 60 events per workload
+    PYTHONPATH=. python benchmarks/calibrate.py W4 W5 W6 --events 150 --treatments interpolated
 
 ====== ============ ============ ============ ============
 coef    ring exact   ring interp  2-D exact    2-D interp
 ====== ============ ============ ============ ============
-0.03                 1.4e-09                   2.6e-10
-0.05                 9.9e-09                   2.1e-09
-0.07                 4.6e-08                   1.0e-08
-0.10    1.1e-08      1.7e-07      1.3e-09      2.5e-08
-0.15    8.2e-08      6.7e-07      9.5e-09      3.2e-07
-0.20    3.3e-07      2.8e-06      3.6e-08      4.7e-07
-0.30    2.3e-06      9.9e-06      2.2e-07      2.7e-06
-0.40    7.7e-06      5.5e-05      7.4e-07      1.0e-05
-0.50    1.9e-05      1.2e-04      1.7e-06      2.7e-05
-0.60    3.7e-05      4.4e-04      2.9e-06      5.8e-05
-0.80    1.4e-04      4.9e-02      5.2e-06      3.9e-04
+0.03                 1.4e-09                   3.5e-10
+0.05                 9.9e-09                   2.5e-09
+0.07                 4.6e-08                   9.0e-09
+0.10    1.1e-08      1.7e-07      1.3e-09      5.1e-08
+0.15    8.2e-08      6.7e-07      9.5e-09      2.0e-07
+0.20    3.3e-07      2.8e-06      3.6e-08      8.3e-07
+0.30    2.3e-06      9.9e-06      2.2e-07      3.2e-06
+0.40    7.7e-06      5.5e-05      7.4e-07      1.8e-05
+0.50    1.9e-05      1.2e-04      1.7e-06      6.7e-05
+0.60    3.7e-05      4.4e-04      2.9e-06      1.6e-04
+0.80    1.4e-04      4.9e-02      5.2e-06      1.1e-03
 ====== ============ ============ ============ ============
 
-For each treatment the coefficient is read off its column (log-log between the rows, the
-scheme's order below the first) at ``rtol / SAFETY``; the interpolated treatment is chosen
-when its step is at least ``SWITCH`` times the exact one's (rings 0.7, 2-D graphs 0.45:
-where it is then the faster, see ``benchmarks/README.md``).  Resulting settings:
+The 2-D interpolated column is from 150 events per workload (its 90th percentiles from 60
+events varied by up to a factor 1.8).  For each treatment the coefficient is read off its
+column (log-log between the rows, the scheme's order below the first) at ``rtol / SAFETY``;
+the interpolated treatment is chosen when its step is at least ``SWITCH`` times the exact
+one's (rings 0.7, 2-D graphs 0.3: where it is then the faster, see :data:`SWITCH`).
+Resulting settings:
 
 ========= ============================ ================================
 rtol       rings (mean degree <= 2.5)   2-D graphs
 ========= ============================ ================================
-1e-8       exact 0.094                  exact 0.145
-1e-7       exact 0.149                  interpolated 0.112
-1e-6       exact 0.241                  interpolated 0.203
-2e-5       exact 0.479                  interpolated 0.400
-1e-4       exact 0.709                  interpolated 0.579
+1e-8       exact 0.094                  interpolated 0.060
+1e-7       exact 0.149                  interpolated 0.100
+1e-6       exact 0.241                  interpolated 0.181
+2e-5       exact 0.479                  interpolated 0.363
+1e-4       exact 0.709                  interpolated 0.476
 ========= ============================ ================================
 """
 
@@ -74,9 +77,10 @@ SAFETY = {
 }
 #: use the interpolated treatment when its step is at least this fraction of the exact one's:
 #: on rings it costs about as much per step as the exact one at 0.7 of its step (W1: 24-29k
-#: against 26-29k events/s), on 2-D graphs far less (W4 at 0.69 of the exact step: 31k against
-#: 11k events/s; 236 against 403 block-steps per event)
-SWITCH = {"ring": 0.7, "2-D": 0.45}
+#: against 26-29k events/s), on 2-D graphs far less (W4, events/s: interpolated at coefficient
+#: 0.18 30.3k against exact at 0.408 12.4k; 0.1 18.9k against 0.239 15.0k; 0.06 12.6k against
+#: 0.239 15.0k: even at about 0.3 of the exact step)
+SWITCH = {"ring": 0.7, "2-D": 0.3}
 #: order of the S error in the step, used below the first row of the table
 ORDER = {"exact": 5.0, "interpolated": 4.0}
 #: (coefficient, 90th-percentile S error of the worst workload of the class), from
@@ -119,17 +123,17 @@ CALIBRATION = {
             (0.8, 5.2e-06),
         ),
         "interpolated": (
-            (0.03, 2.6e-10),
-            (0.05, 2.1e-09),
-            (0.07, 1.0e-08),
-            (0.1, 2.5e-08),
-            (0.15, 3.2e-07),
-            (0.2, 4.7e-07),
-            (0.3, 2.7e-06),
-            (0.4, 1.0e-05),
-            (0.5, 2.7e-05),
-            (0.6, 5.8e-05),
-            (0.8, 3.9e-04),
+            (0.03, 3.5e-10),
+            (0.05, 2.5e-09),
+            (0.07, 9.0e-09),
+            (0.1, 5.1e-08),
+            (0.15, 2.0e-07),
+            (0.2, 8.3e-07),
+            (0.3, 3.2e-06),
+            (0.4, 1.8e-05),
+            (0.5, 6.7e-05),
+            (0.6, 1.6e-04),
+            (0.8, 1.1e-03),
         ),
     },
 }

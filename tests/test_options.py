@@ -73,9 +73,9 @@ def test_each_run_gets_the_entry_kernel_of_its_scheme_and_treatment():
     assert graph_class(tree) == "ring" and default.entry(tree) == "run_events_dopri5_local"
     assert default.entry(lattice) == "run_events_dopri5_interpolated"
     assert default.regions_from(lattice) == 32
-    assert RunOptions(rtol=1e-8).entry(lattice) == "run_events_dopri5_local"
+    assert RunOptions(crossings="exact").entry(lattice) == "run_events_dopri5_local"
     # a graph too small for any region (4 x 32 blocks or fewer) skips their code
-    assert RunOptions(rtol=1e-8).entry(small) == "run_events_dopri5"
+    assert RunOptions(crossings="exact").entry(small) == "run_events_dopri5"
     # an explicit value holds on any graph
     assert RunOptions(local_regions_from=8).entry(ring) == "run_events_dopri5_local"
     assert RunOptions(method="rk4").entry(lattice) == "run_events_rk4"
