@@ -7,6 +7,17 @@ from dataclasses import dataclass, field
 import numpy as np
 import pandas as pd
 
+from faultnet._kernels.layout import (
+    CAT_BLOCKS,
+    CAT_DURATION,
+    CAT_HYPOCENTER,
+    CAT_S,
+    CAT_STEPS,
+    CAT_T,
+    TRACE_EVENT,
+    TRACE_TIME,
+    TRACE_X,
+)
 from faultnet.state import State
 
 __all__ = ["SimulationResult", "events_frame", "slips_frame", "traces_frame"]
@@ -29,19 +40,19 @@ def node_labels(nodes, idx):
 def events_frame(ev0, cat_f, cat_i, nodes):
     """One row per event: event, t, duration, n_blocks, S, M, hypocenter, n_steps."""
     n = cat_f.shape[0]
-    S = cat_f[:, 2]
+    S = cat_f[:, CAT_S]
     with np.errstate(divide="ignore"):
         M = np.log(S)
     return pd.DataFrame(
         {
             "event": np.arange(ev0, ev0 + n, dtype=np.int64),
-            "t": cat_f[:, 0],
-            "duration": cat_f[:, 1],
-            "n_blocks": cat_i[:, 0],
+            "t": cat_f[:, CAT_T],
+            "duration": cat_f[:, CAT_DURATION],
+            "n_blocks": cat_i[:, CAT_BLOCKS],
             "S": S,
             "M": M,
-            "hypocenter": node_labels(nodes, cat_i[:, 1]),
-            "n_steps": cat_i[:, 2],
+            "hypocenter": node_labels(nodes, cat_i[:, CAT_HYPOCENTER]),
+            "n_steps": cat_i[:, CAT_STEPS],
         }
     )
 
@@ -59,11 +70,11 @@ def traces_frame(buf, trace_idx, nodes):
     rows = buf.shape[0]
     return pd.DataFrame(
         {
-            "event": np.repeat(buf[:, 0].astype(np.int64), m),
-            "time": np.repeat(buf[:, 1], m),
+            "event": np.repeat(buf[:, TRACE_EVENT].astype(np.int64), m),
+            "time": np.repeat(buf[:, TRACE_TIME], m),
             "node": np.tile(node_labels(nodes, trace_idx), rows),
-            "x": buf[:, 2 : 2 + m].reshape(-1),
-            "v": buf[:, 2 + m : 2 + 2 * m].reshape(-1),
+            "x": buf[:, TRACE_X : TRACE_X + m].reshape(-1),
+            "v": buf[:, TRACE_X + m : TRACE_X + 2 * m].reshape(-1),
         }
     )
 

@@ -21,7 +21,15 @@ import time
 import numpy as np
 from tqdm.auto import tqdm
 
-from faultnet._kernels.layout import CNT_BLOCK_STEPS, CNT_EVENTS, CNT_STEPS, SCAL_OFFSET, SCAL_W
+from faultnet._kernels.layout import (
+    CAT_F_SIZE,
+    CAT_I_SIZE,
+    CNT_BLOCK_STEPS,
+    CNT_EVENTS,
+    CNT_STEPS,
+    SCAL_OFFSET,
+    SCAL_W,
+)
 from faultnet._validate import check_int
 from faultnet.catalog import SimulationResult, events_frame
 from faultnet.exceptions import InvalidParameterError
@@ -212,8 +220,8 @@ class Simulator:
         arr = self._arrays
         arr.start_chunk(n_events if record_profiles else 0)
         ev0 = arr.n_events
-        cat_f = np.zeros((n_events, 3), dtype=np.float64)
-        cat_i = np.zeros((n_events, 3), dtype=np.int64)
+        cat_f = np.zeros((n_events, CAT_F_SIZE), dtype=np.float64)
+        cat_i = np.zeros((n_events, CAT_I_SIZE), dtype=np.int64)
         wall, steps, block_steps = self._loop(n_events, ev0, cat_f, cat_i, progress)
         arr.take_slips(self._max_slip_rows)
         arr.n_events = ev0 + n_events

@@ -2,15 +2,18 @@
 
 :class:`KernelArrays` holds the topology (CSR), the per-block parameters, the
 state (``z``, ``scal``, failure keys and their tree), the work space and the
-recording buffers, and calls the entry kernel of the run's scheme.  The small
-packed arrays (``ctrl``, ``scal``, ``cnt``, ``out``) are read and written
-through the names of :mod:`faultnet._kernels.layout`.
+recording buffers, and calls the entry kernel of the run's scheme with them in the
+bundles of :mod:`faultnet._kernels.bundles`.  The small packed arrays (``ctrl``, ``scal``,
+``cnt``, ``out``) and the catalog and trace columns are read and written through the names
+of :mod:`faultnet._kernels.layout`.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from faultnet._kernels.bundles import Graph, Records, Work
+from faultnet._kernels.bundles import State as KernelState
 from faultnet._kernels.layout import (
     CNT_EVENTS,
     CNT_SIZE,
@@ -28,6 +31,7 @@ from faultnet._kernels.layout import (
     SCAL_SIZE,
     SCAL_W,
     SOLO_SIZE,
+    TRACE_X,
 )
 from faultnet._validate import generator_and_seed
 from faultnet.catalog import SimulationResult
@@ -191,12 +195,14 @@ class KernelArrays:
         # local-region context (boundary, times) and the boundary's dense coefficients
         self.loc = np.zeros(K.LOC_SIZE, dtype=np.float64)
         self.out = np.zeros(OUT_SIZE, dtype=np.float64)
+        self.kstate = KernelState(self.z, self.scal, self.keys, self.tree)
+        self.work = Work(self.W, self.IW, self.loc, self.cnt)
         self.record_slips = bool(record_slips)
         self.slip_cap = max(4 * n, 1 << 16) if record_slips else 0
         self._slip_buffers(self.slip_cap)
         self.trace_idx = trace_idx
         rows = max_trace_rows if trace_idx.size else 0
-        self.trace = np.zeros((rows, 2 + 2 * trace_idx.size), dtype=np.float64)
+        self.trace = np.zeros((rows, TRACE_X + 2 * trace_idx.size), dtype=np.float64)
         self.profiles = np.zeros((0, 0), dtype=np.float64)
         self.set_parameters(model, dt)
 
@@ -211,19 +217,22 @@ class KernelArrays:
         ``dt`` (from :meth:`RunOptions.step`), the crossing treatment and with it the entry
         kernel (:meth:`RunOptions.entry`) may follow the model.
         """
-        self.kval = model.adjacency.data.astype(np.float64)
-        self.diag = model.stiffness.astype(np.float64)
-        self.oms = 1.0 - model.sigma_values
-        self.cfr = 2.0 * model.alpha_values / self.oms
+        oms = 1.0 - model.sigma_values
+        self.graph = Graph(
+            indptr=self.indptr,
+            indices=self.indices,
+            kval=model.adjacency.data.astype(np.float64),
+            diag=model.stiffness.astype(np.float64),
+            oms=oms,
+            cfr=2.0 * model.alpha_values / oms,
+        )
         self.ctrl[CTRL_DT] = dt
         self.ctrl[CTRL_LOCAL_FROM] = self.options.regions_from(model)
         self.kernel = getattr(_kernels(), self.options.entry(model))
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
         self.cls = model.block_classes
         self.solo = np.full((int(self.cls.max()) + 1, SOLO_SIZE), np.nan)
-        _kernels().build_keys_and_tree(
-            self.z, self.indptr, self.indices, self.kval, self.diag, self.keys, self.tree
-        )
+        _kernels().build_keys_and_tree(self.kstate, self.graph)
 
     def state(self) -> State:
         """A copy of the state between events."""
@@ -244,14 +253,20 @@ class KernelArrays:
     def call(self, n_req, ev0, cat_f, cat_i, done):
         """One call of the entry kernel: up to ``n_req`` events into the catalog rows."""
         self.cnt[CNT_EVENTS] = 0
-        profiles = self.profiles[done:] if self.profiles.shape[0] else self.profiles
+        records = Records(
+            cat_f=cat_f,
+            cat_i=cat_i,
+            slip_event=self.slip_e,
+            slip_node=self.slip_n,
+            slip_val=self.slip_v,
+            trace_nodes=self.trace_idx,
+            trace_buf=self.trace,
+            profiles=self.profiles[done:] if self.profiles.shape[0] else self.profiles,
+            out=self.out,
+        )
         return self.kernel(
-            n_req, ev0, self.z, self.scal, self.keys, self.tree, self.W, self.IW,
-            self.indptr, self.indices, self.kval, self.diag, self.oms, self.cfr,
-            self.ctrl, self.loc, self.cls, self.solo, cat_f, cat_i,
-            self.slip_e, self.slip_n, self.slip_v, self.trace_idx, self.trace,
-            profiles, self.cnt, self.out,
-        )  # fmt: skip
+            n_req, ev0, self.kstate, self.graph, self.ctrl, self.cls, self.solo, self.work, records
+        )
 
     def take_slips(self, limit):
         """Move the buffered slip rows to ``slip_parts``; stop recording past ``limit`` rows."""

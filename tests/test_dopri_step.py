@@ -16,7 +16,15 @@ import numpy as np
 import pytest
 import scipy.sparse
 
-from faultnet._kernels.context import LOC_CACHE, LOC_SIZE
+from faultnet._kernels.bundles import Graph, Work
+from faultnet._kernels.context import (
+    LOC_BND_END,
+    LOC_BND_START,
+    LOC_CACHE,
+    LOC_OUTER_H,
+    LOC_REGION_T,
+    LOC_SIZE,
+)
 from faultnet._kernels.dopri import dopri_step
 from faultnet._kernels.integrate import (
     ACT,
@@ -36,6 +44,7 @@ from faultnet._kernels.integrate import (
     P,
     V,
 )
+from faultnet._kernels.layout import CNT_SIZE
 from faultnet._kernels.tableau import KA, KV, N_WORK_DOPRI
 
 _C = [0, Fr(1, 5), Fr(3, 10), Fr(4, 5), Fr(8, 9), 1]
@@ -52,7 +61,9 @@ _B = [Fr(35, 384), 0, Fr(500, 1113), Fr(125, 192), Fr(-2187, 6784), Fr(11, 84)]
 
 @nb.njit(cache=False)
 def _step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
-    return dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, 0, 1e6, loc)
+    graph = Graph(indptr, indices, kval, diag, oms, cfr)
+    work = Work(W, IW, loc, np.zeros(CNT_SIZE, dtype=np.int64))
+    return dopri_step(h, q0, nact, 0, 1e6, graph, work)
 
 
 def _reference(h, blocks, x, v0, a0, F0s, K, diag, oms, cfr, boundary, th0, hout):
@@ -121,7 +132,8 @@ def test_step_matches_a_dense_reference(region, seed):
         loc[LOC_CACHE + 5 * r : LOC_CACHE + 5 * r + 5] = boundary[b]
     th0, hout = 0.3, 0.1  # the region step starts at 0.3 of an outer step of length 0.1
     if region:
-        loc[0], loc[1], loc[2], loc[3] = 0.0, len(boundary), th0, hout
+        loc[LOC_BND_START], loc[LOC_BND_END] = 0.0, len(boundary)
+        loc[LOC_REGION_T], loc[LOC_OUTER_H] = th0, hout
     nact = q0 + len(blocks)
     IW[ACT, q0:nact] = blocks
     IW[APOS, blocks] = np.arange(q0, nact)

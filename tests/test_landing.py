@@ -9,7 +9,16 @@ import pytest
 
 import faultnet
 from faultnet import default_dt
-from faultnet._kernels.context import LOC_NCAND, LOC_SIZE, LOC_THETA
+from faultnet._kernels.bundles import Graph, Work
+from faultnet._kernels.context import (
+    LOC_BND_END,
+    LOC_BND_START,
+    LOC_NCAND,
+    LOC_OUTER_H,
+    LOC_REGION_T,
+    LOC_SIZE,
+    LOC_THETA,
+)
 from faultnet._kernels.crossing import JOIN, STICK
 from faultnet._kernels.dopri import cache_boundary, dopri_step
 from faultnet._kernels.integrate import (
@@ -29,6 +38,7 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.landing import land, septic_coeffs
+from faultnet._kernels.layout import CNT_SIZE
 from faultnet._kernels.local import _collect, _first_crossing, _listed
 from faultnet._kernels.stepping import activate, commit, touch
 from faultnet._kernels.tableau import N_WORK_DOPRI
@@ -48,22 +58,27 @@ def test_septic_hermite_reproduces_a_degree_7_polynomial():
 
 
 @nb.njit(cache=False)
+def _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    """The kernels' Graph and Work bundles of these arrays (fresh counters)."""
+    graph = Graph(indptr, indices, kval, diag, oms, cfr)
+    return graph, Work(W, IW, loc, np.zeros(CNT_SIZE, dtype=np.int64))
+
+
+@nb.njit(cache=False)
 def _start(hyp, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
     zero = np.int64(0)
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, np.zeros(LOC_SIZE))
     ntouch = touch(hyp, w, keys, W, IW, zero)
-    nact, ntouch = activate(
-        hyp, zero, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-    )
+    nact, ntouch = activate(hyp, zero, ntouch, w, keys, graph, work)
     return nact
 
 
 @nb.njit(cache=False)
 def _to_join_step(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     """Full steps, committed, until one has a join inside: (theta, who, steps)."""
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
     for n in range(10000):
-        th, who, kind, status = dopri_step(
-            h, 0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, True, 1e6, loc
-        )
+        th, who, kind, status = dopri_step(h, 0, nact, True, 1e6, graph, work)
         if who >= 0:
             if kind == JOIN and th > 0.0:
                 return th, who, n
@@ -75,20 +90,22 @@ def _to_join_step(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
 @nb.njit(cache=False)
 def _land(th, who, h, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     """A whole event's landing (q0 = 0) or a region's, on the region's step (qb = q0)."""
-    return land(th, who, h, q0, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc)
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    return land(th, who, h, q0, q0, nact, graph, work)
 
 
 @nb.njit(cache=False)
 def _fine(h, m, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     """m committed DP5 steps of length h / m (no crossing scan)."""
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
     for _ in range(m):
-        dopri_step(h / m, 0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, False, 1e6, loc)
+        dopri_step(h / m, 0, nact, False, 1e6, graph, work)
         commit(0, nact, W, IW)
 
 
 @nb.njit(cache=False)
-def _force(j, W, indptr, indices, kval, diag):
-    return force(j, D, W, indptr, indices, kval, diag)
+def _force(j, W, indptr, indices, kval, diag, oms, cfr):
+    return force(j, D, W, Graph(indptr, indices, kval, diag, oms, cfr))
 
 
 def _arrays(model):
@@ -123,7 +140,7 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
     own); the joining block's force there is 1 to round-off.
     """
     n, arrays, h, W, IW, loc = _ring12(alpha)
-    loc[3] = 1.0
+    loc[LOC_OUTER_H] = 1.0
     w = 0.0
     keys = np.full(n, 1.0)  # keys: plate position at which a block fails; force = 1 + w - key
     keys[5] = w
@@ -143,7 +160,7 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
     hl = _land(th, who, h, 0, nact, W, IW, *arrays, loc)
     assert 0.0 < hl < h
     assert abs(hl / h - th) < 1e-4  # next to the dense output's estimate
-    assert abs(_force(who, W, *arrays[:4]) - 1.0) < 1e-13
+    assert abs(_force(who, W, *arrays) - 1.0) < 1e-13
     ref = start
     _fine(hl, 256, nact, ref, IW, *arrays, loc)
     landed = np.concatenate([W[act, D] - ref[act, D], W[act, V] - ref[act, V]])
@@ -158,33 +175,34 @@ def _slipping(blocks, vel, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
     """Blocks slipping at velocities ``vel`` from displacement 0 (active list in this order)."""
     nact = np.int64(0)
     ntouch = np.int64(0)
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, np.zeros(LOC_SIZE))
     for b in blocks:
         ntouch = touch(b, w, keys, W, IW, ntouch)
     for b in blocks:
-        nact, ntouch = activate(
-            b, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-        )
+        nact, ntouch = activate(b, nact, ntouch, w, keys, graph, work)
     for r in range(blocks.shape[0]):
         W[blocks[r], V] = vel[r]
     for b in blocks:
-        W[b, A] = accel(b, P, V, W, indptr, indices, kval, diag, oms, cfr)
+        W[b, A] = accel(b, P, V, W, graph)
     return nact
 
 
 @nb.njit(cache=False)
 def _region_step(h, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
-    return dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, True, 1e6, loc)
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    return dopri_step(h, q0, nact, True, 1e6, graph, work)
 
 
 @nb.njit(cache=False)
 def _region_fine(h, m, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     """m committed region steps of length h / m, the boundary on the outer dense output."""
-    th0 = loc[2]
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    th0 = loc[LOC_REGION_T]
     for s in range(m):
-        loc[2] = th0 + s * h / m / loc[3]
-        dopri_step(h / m, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, False, 1e6, loc)
+        loc[LOC_REGION_T] = th0 + s * h / m / loc[LOC_OUTER_H]
+        dopri_step(h / m, q0, nact, False, 1e6, graph, work)
         commit(q0, nact, W, IW)
-    loc[2] = th0
+    loc[LOC_REGION_T] = th0
 
 
 @nb.njit(cache=False)
@@ -220,12 +238,12 @@ def test_landed_join_inside_a_local_region(alpha, v_boundary):
         IW[APOS, b] = q0 + q
     end = q0 + 2
     IW[BND, 0] = 3
-    loc[0], loc[1], loc[2], loc[3] = 0.0, 1.0, 0.0, hh
+    loc[LOC_BND_START], loc[LOC_BND_END], loc[LOC_REGION_T], loc[LOC_OUTER_H] = 0.0, 1.0, 0.0, hh
     _cache(0, 3, W, IW, loc)
     # a region step from a quarter of the outer step to its end
     th0 = 0.25
     _region_fine(th0 * hh, 64, q0, end, W, IW, *arrays, loc)
-    loc[2] = th0
+    loc[LOC_REGION_T] = th0
     h = (1.0 - th0) * hh
     start = W.copy()
     th, who, kind, status = _region_step(h, q0, end, W, IW, *arrays, loc)
@@ -240,7 +258,7 @@ def test_landed_join_inside_a_local_region(alpha, v_boundary):
     hl = _land(th, who, h, q0, end, W, IW, *arrays, loc)
     assert 0.0 < hl < h
     assert abs(hl / h - th) < 1e-4
-    assert abs(_force(who, W, *arrays[:4]) - 1.0) < 1e-13
+    assert abs(_force(who, W, *arrays) - 1.0) < 1e-13
     ref = start.copy()
     _region_fine(hl, 256, q0, end, ref, IW, *arrays, loc)
     land_err = np.abs(np.concatenate([W[act, D] - ref[act, D], W[act, V] - ref[act, V]])).max()
@@ -264,9 +282,8 @@ def _first(cid, ncand, IW, loc):
 def _outer_scan(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     """A whole-event step whose scan also lists every crossing (scan mode 2)."""
     loc[LOC_NCAND] = 0.0
-    th, who, kind, status = dopri_step(
-        h, 0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, 2, 1e6, loc
-    )
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    th, who, kind, status = dopri_step(h, 0, nact, 2, 1e6, graph, work)
     return th, who, kind
 
 
@@ -276,8 +293,9 @@ def _listed_(mark, IW, loc):
 
 
 @nb.njit(cache=False)
-def _collect_(h, nact, mark, W, IW, indptr, indices, kval, diag, loc):
-    return _collect(h, nact, mark, W, IW, indptr, indices, kval, diag, loc)
+def _collect_(h, nact, mark, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    return _collect(h, nact, mark, graph, work)
 
 
 def test_first_crossing_is_the_earliest_located_candidate_of_the_component():
@@ -321,7 +339,7 @@ def test_listed_crossings_match_the_outer_scan(v_boundary):
     assert raw.count(6) == 2
     n = _listed_(98, IW, loc)
     listed = IW[CAND, :n].tolist(), loc[LOC_THETA : LOC_THETA + n].tolist()
-    n = _collect_(h, nact, 99, W, IW, *arrays[:4], loc)
+    n = _collect_(h, nact, 99, W, IW, *arrays, loc)
     collected = IW[CAND, :n].tolist(), loc[LOC_THETA : LOC_THETA + n].tolist()
     assert listed == collected
     got = dict(zip(*listed, strict=True))

@@ -3,17 +3,44 @@
 ``loc`` (float64[LOC_SIZE], allocated once per run) holds, for the step being
 handled in local regions (:mod:`faultnet._kernels.local`):
 
-- ``loc[0]``, ``loc[1]``: the current region's boundary list ``IW[BND, loc[0]:loc[1]]``;
-- ``loc[2]``: the start of the current region step, as a fraction of the outer step;
-- ``loc[3]``: the outer step's length;
-- ``loc[4]``: the number of blocks saved for a fallback;
-- ``loc[5]``: the step's id;
+- ``loc[LOC_BND_START]``, ``loc[LOC_BND_END]``: the current region's boundary list
+  ``IW[BND, loc[LOC_BND_START]:loc[LOC_BND_END]]`` (empty outside a region);
+- ``loc[LOC_REGION_T]``: the start of the current region step, as a fraction of the outer step;
+- ``loc[LOC_OUTER_H]``: the outer step's length;
+- ``loc[LOC_NSAVED]``: the number of blocks saved for a fallback (``IW[SLIST]``);
+- ``loc[LOC_STEP_ID]``: the outer step's id (tags the saves of ``IW[SAVE]``);
 - ``loc[LOC_NCAND]``: the crossings listed by the outer step's scan (-1: too many);
 - from ``LOC_CACHE``: the dense-output coefficients of boundary blocks (five each);
 - from ``LOC_THETA``: where the outer step put each listed crossing.
 """
 
-__all__ = ["BOUNDARY_CACHE", "LOC_CACHE", "LOC_NCAND", "LOC_SIZE", "LOC_THETA", "THETA_CACHE"]
+__all__ = [
+    "BOUNDARY_CACHE",
+    "LOC_BND_END",
+    "LOC_BND_START",
+    "LOC_CACHE",
+    "LOC_NCAND",
+    "LOC_NSAVED",
+    "LOC_OUTER_H",
+    "LOC_REGION_T",
+    "LOC_SIZE",
+    "LOC_STEP_ID",
+    "LOC_THETA",
+    "THETA_CACHE",
+]
+
+#: start of the current region's boundary list in ``IW[BND]``
+LOC_BND_START = 0
+#: end of the current region's boundary list (equal to the start: no region)
+LOC_BND_END = 1
+#: start of the current region step, as a fraction of the outer step
+LOC_REGION_T = 2
+#: length of the outer step
+LOC_OUTER_H = 3
+#: blocks saved for a fallback, listed in ``IW[SLIST]``
+LOC_NSAVED = 4
+#: id of the outer step, which tags the saves kept in ``IW[SAVE]``
+LOC_STEP_ID = 5
 
 #: number of crossings the outer step's scan listed in ``IW[CAND]``
 LOC_NCAND = 6

@@ -79,13 +79,16 @@ def stick_theta(method, h, q, i, W):
 
 
 @kernel
-def join_theta(method, h, q0, j, f0, f1, W, IW, indptr, indices, kval):
+def join_theta(method, h, q0, j, f0, f1, graph, work):
     """Where inside the step the force on stuck block j reaches 1 (f0 < 1 <= f1).
 
     Inside a local region (``q0 > 0``) a block next to a slipping block outside
     the region returns 0.0: the region must grow (its neighbour's motion is not
-    integrated with the region's steps).
+    integrated with the region's steps).  ``graph``, ``work``:
+    :class:`~faultnet._kernels.bundles.Graph` and ``Work``.
     """
+    W, IW = work.W, work.IW
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     if method == 1:
         g1 = g3 = g4 = g5 = g6 = g7 = 0.0
         for r in range(indptr[j], indptr[j + 1]):
@@ -140,10 +143,7 @@ def _list(b, th, IW, loc):
 
 
 @inline_kernel
-def block_crossings(
-    method, h, q0, q, i, pos, vmax, best, who, kind, listing, W, IW, indptr, indices, kval, diag,
-    loc,
-):  # fmt: skip
+def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, graph, work):
     """Fold the crossings owned by active block i into (best, who, kind).
 
     Block i's own stop, and the joins of its stuck neighbours, whose end-of-step
@@ -152,8 +152,11 @@ def block_crossings(
     once per slipping neighbour) for the local regions; a stop at a dip of v
     (a grazing crossing) is listed as not located.  Returns (best, who, kind, status); a
     non-finite or runaway velocity stops the scan with its status and the
-    block in ``who``.
+    block in ``who``.  Inlined into the step's last pass: ``graph`` and ``work``
+    (:class:`~faultnet._kernels.bundles.Graph`, ``Work``) cost nothing here.
     """
+    W, IW, loc = work.W, work.IW, work.loc
+    indptr, indices = graph.indptr, graph.indices
     v1 = W[i, VN]
     if not (v1 < vmax):
         return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
@@ -167,13 +170,11 @@ def block_crossings(
         j = indices[p]
         if IW[FLAG, j] == ACTIVE:
             continue
-        f1 = force(j, pos, W, indptr, indices, kval, diag)
+        f1 = force(j, pos, W, graph)
         if f1 < 1.0:
             continue
-        f0 = force(j, D, W, indptr, indices, kval, diag)
-        th = (
-            0.0 if f0 >= 1.0 else join_theta(method, h, q0, j, f0, f1, W, IW, indptr, indices, kval)
-        )
+        f0 = force(j, D, W, graph)
+        th = 0.0 if f0 >= 1.0 else join_theta(method, h, q0, j, f0, f1, graph, work)
         if th < best:
             best, who, kind = th, j, JOIN
         if listing:
@@ -182,13 +183,15 @@ def block_crossings(
 
 
 @kernel
-def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax, loc):
+def earliest_crossing(method, h, nact, vmax, graph, work):
     """Earliest stick or join inside the step just taken (D,V,A -> DN,VN,AN).
 
     Returns (theta, block, kind, status): theta in [0, 1] is the fraction of
     the step, block is -1 when nothing happens inside the step.  The DP5 step
     does this scan in its last pass (:func:`faultnet._kernels.dopri.dopri_step`).
+    ``graph``, ``work``: :class:`~faultnet._kernels.bundles.Graph` and ``Work``.
     """
+    IW = work.IW
     best = 2.0
     who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
     kind = np.int64(0)
@@ -206,13 +209,8 @@ def earliest_crossing(method, h, nact, W, IW, indptr, indices, kval, diag, vmax,
             who,
             kind,
             False,
-            W,
-            IW,
-            indptr,
-            indices,
-            kval,
-            diag,
-            loc,
+            graph,
+            work,
         )
         if status != STATUS_OK:
             return best, who, kind, status

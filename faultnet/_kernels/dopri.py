@@ -13,7 +13,14 @@ first-same-as-last evaluation is the next step's A), see docs/guide/performance.
 
 import numpy as np
 
-from faultnet._kernels.context import BOUNDARY_CACHE, LOC_CACHE
+from faultnet._kernels.context import (
+    BOUNDARY_CACHE,
+    LOC_BND_END,
+    LOC_BND_START,
+    LOC_CACHE,
+    LOC_OUTER_H,
+    LOC_REGION_T,
+)
 from faultnet._kernels.crossing import STATUS_OK, block_crossings
 from faultnet._kernels.integrate import ACT, AN, APOS, BND, DN, P2, VN, A, D, P, V, accel, force
 from faultnet._kernels.jit import inline_kernel, kernel
@@ -69,10 +76,10 @@ def _cache_slot(r, loc):
 def boundary_coeffs(b, W, IW, loc):
     """Dense-output coefficients of boundary block b over the outer step (its outer slot).
 
-    The position at fraction th of the outer step (length ``loc[3]``) is
+    The position at fraction th of the outer step (length ``loc[LOC_OUTER_H]``) is
     ``c0 + th (c1 + th (c2 + th (c3 + th c4)))``.
     """
-    return slot_dense(W[b, D], W[b, DN], loc[3], W, IW[APOS, b], KV, W[b, VN])
+    return slot_dense(W[b, D], W[b, DN], loc[LOC_OUTER_H], W, IW[APOS, b], KV, W[b, VN])
 
 
 @kernel
@@ -91,12 +98,12 @@ def cache_boundary(r, b, W, IW, loc):
 def boundary_positions(col, th, W, IW, loc):
     """Write the boundary blocks' positions at fraction ``th`` of the outer step to ``col``.
 
-    The boundary of a local region (``IW[BND, loc[0]:loc[1]]``) are slipping
-    blocks outside it; they follow the DP5 dense output of the outer step of
-    length ``loc[3]``, whose stage derivatives are in their outer slot
+    The boundary of a local region (``IW[BND, loc[LOC_BND_START]:loc[LOC_BND_END]]``) are
+    slipping blocks outside it; they follow the DP5 dense output of the outer step of
+    length ``loc[LOC_OUTER_H]``, whose stage derivatives are in their outer slot
     ``IW[APOS, b]`` and whose coefficients :func:`cache_boundary` keeps.
     """
-    for r in range(int(loc[0]), int(loc[1])):
+    for r in range(int(loc[LOC_BND_START]), int(loc[LOC_BND_END])):
         b = IW[BND, r]
         o = _cache_slot(r, loc)
         if o >= 0:
@@ -109,22 +116,22 @@ def boundary_positions(col, th, W, IW, loc):
 @kernel
 def boundary_at(th, W, IW, loc):
     """The boundary blocks at fraction ``th`` of the outer step, in both stage columns P and P2."""
-    col = int(loc[0] - loc[0]) + P
+    col = int(loc[LOC_BND_START] - loc[LOC_BND_START]) + P
     boundary_positions(col, th, W, IW, loc)
     boundary_positions(col + (P2 - P), th, W, IW, loc)
 
 
 @inline_kernel
-def _acc(i, pos, v, W, indptr, indices, kval, diag, oms, cfr):
+def _acc(i, pos, v, W, graph):
     """Acceleration of block i at stage positions ``pos`` and stage velocity ``v``."""
-    den = 1.0 + cfr[i] * v
+    den = 1.0 + graph.cfr[i] * v
     if den < 0.5:
         den = 0.5
-    return force(i, pos, W, indptr, indices, kval, diag) - oms[i] / den
+    return force(i, pos, W, graph) - graph.oms[i] / den
 
 
 @kernel
-def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, vmax, loc):
+def dopri_step(h, q0, nact, scan, vmax, graph, work):
     """One Dormand-Prince 5(4) step of length ``h`` for the active blocks ``q0 <= q < nact``.
 
     Stage s reads positions from one of the columns P, P2 and writes the inputs
@@ -136,16 +143,20 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     ``scan == 2`` it also lists every crossing for the local regions
     (``IW[CAND]``, counted from ``loc[LOC_NCAND]``, which the caller zeroes).
 
-    Inside a local region (``loc[1] > loc[0]``) the boundary blocks' positions
-    are written at each stage time from the outer step's dense output; the
-    step starts at fraction ``loc[2]`` of that outer step.
+    Inside a local region (``loc[LOC_BND_END] > loc[LOC_BND_START]``) the boundary blocks'
+    positions are written at each stage time from the outer step's dense output; the
+    step starts at fraction ``loc[LOC_REGION_T]`` of that outer step.
+
+    ``graph``, ``work``: :class:`~faultnet._kernels.bundles.Graph` and ``Work``, unpacked
+    once here; the stage passes inline :func:`_acc` and the scan.
     """
-    bnd = loc[1] > loc[0]
-    th0 = loc[2]
+    W, IW, loc = work.W, work.IW, work.loc
+    bnd = loc[LOC_BND_END] > loc[LOC_BND_START]
+    th0 = loc[LOC_REGION_T]
     # runtime column numbers: one compiled signature of boundary_positions
     cp = nact - nact + P
     cp2 = cp + (P2 - P)
-    hr = h / loc[3] if bnd else 0.0
+    hr = h / loc[LOC_OUTER_H] if bnd else 0.0
     for q in range(q0, nact):
         i = IW[ACT, q]
         v = W[i, V]
@@ -159,7 +170,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     for q in range(q0, nact):
         i = IW[ACT, q]
         v2 = W[q, KV + 1]
-        a2 = _acc(i, P, v2, W, indptr, indices, kval, diag, oms, cfr)
+        a2 = _acc(i, P, v2, W, graph)
         W[q, KA + 1] = a2
         W[i, P2] = W[i, D] + h * (_A31 * W[q, KV] + _A32 * v2)
         W[q, KV + 2] = W[i, V] + h * (_A31 * W[q, KA] + _A32 * a2)
@@ -168,7 +179,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     for q in range(q0, nact):
         i = IW[ACT, q]
         v3 = W[q, KV + 2]
-        a3 = _acc(i, P2, v3, W, indptr, indices, kval, diag, oms, cfr)
+        a3 = _acc(i, P2, v3, W, graph)
         W[q, KA + 2] = a3
         W[i, P] = W[i, D] + h * (_A41 * W[q, KV] + _A42 * W[q, KV + 1] + _A43 * v3)
         W[q, KV + 3] = W[i, V] + h * (_A41 * W[q, KA] + _A42 * W[q, KA + 1] + _A43 * a3)
@@ -177,7 +188,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     for q in range(q0, nact):
         i = IW[ACT, q]
         v4 = W[q, KV + 3]
-        a4 = _acc(i, P, v4, W, indptr, indices, kval, diag, oms, cfr)
+        a4 = _acc(i, P, v4, W, graph)
         W[q, KA + 3] = a4
         dp = _A51 * W[q, KV] + _A52 * W[q, KV + 1] + _A53 * W[q, KV + 2] + _A54 * v4
         dv = _A51 * W[q, KA] + _A52 * W[q, KA + 1] + _A53 * W[q, KA + 2] + _A54 * a4
@@ -188,7 +199,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     for q in range(q0, nact):
         i = IW[ACT, q]
         v5 = W[q, KV + 4]
-        a5 = _acc(i, P2, v5, W, indptr, indices, kval, diag, oms, cfr)
+        a5 = _acc(i, P2, v5, W, graph)
         W[q, KA + 4] = a5
         dp = (
             _A61 * W[q, KV]
@@ -211,7 +222,7 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     for q in range(q0, nact):
         i = IW[ACT, q]
         v6 = W[q, KV + 5]
-        a6 = _acc(i, P, v6, W, indptr, indices, kval, diag, oms, cfr)
+        a6 = _acc(i, P, v6, W, graph)
         W[q, KA + 5] = a6
         dp = (
             _B1 * W[q, KV] + _B3 * W[q, KV + 2] + _B4 * W[q, KV + 3] + _B5 * W[q, KV + 4] + _B6 * v6
@@ -232,13 +243,12 @@ def dopri_step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, scan, 
     for q in range(q0, nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]
-        W[i, AN] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)
+        W[i, AN] = accel(i, P2, VN, W, graph)
         if scan:
             # P2 holds every active block's end position (P is being updated)
             best, who, kind, status = block_crossings(
-                1, h, q0, q, i, P2, vmax, best, who, kind, listing, W, IW, indptr, indices, kval,
-                diag, loc,
-            )  # fmt: skip
+                1, h, q0, q, i, P2, vmax, best, who, kind, listing, graph, work
+            )
             if status != STATUS_OK:
                 return best, who, kind, status
     return best, who, kind, STATUS_OK

@@ -15,8 +15,16 @@ entry                               scheme   crossings
 =================================== ======== =========================================
 
 They advance the model by up to ``n_req`` events and fill preallocated catalog arrays.  The
-return value is a status code (``STATUS_*``); the counters in ``cnt`` are named in
+return value is a status code (``STATUS_*``); the counters in ``work.cnt`` are named in
 :mod:`faultnet._kernels.layout` (``CNT_*``).
+
+Arguments of the entry kernels: ``n_req`` (events requested), ``ev0`` (the first one's
+number), the bundles (:mod:`faultnet._kernels.bundles`) ``state`` (z, frame, failure keys and
+their tree), ``graph`` (topology and per-block parameters), ``work`` (work space, step context,
+counters) and ``records`` (catalog, slips, traces, profiles, the last event's row), and
+``ctrl`` (options, ``layout.CTRL_*``), ``cls`` (int64[N]: each block's parameter class) and
+``solo`` (float64[n_classes, SOLO_SIZE]: the classes' cached solo slips, ``layout.SOLO_*``,
+NaN until computed).
 """
 
 import math
@@ -31,6 +39,12 @@ from faultnet._kernels.crossing import (
 from faultnet._kernels.integrate import FLAG, P2, STUCK, TOUCH, UNTOUCHED, D, P
 from faultnet._kernels.jit import entry, inline_kernel, kernel
 from faultnet._kernels.layout import (
+    CAT_BLOCKS,
+    CAT_DURATION,
+    CAT_HYPOCENTER,
+    CAT_S,
+    CAT_STEPS,
+    CAT_T,
     CNT_EVENTS,
     CNT_SLIP_ROWS,
     CNT_STEPS,
@@ -76,11 +90,11 @@ RECENTRE_AT = 4.0
 
 
 @kernel
-def _finish_event(
-    ntouch, ev, z, keys, tree, W, IW, indptr, indices, kval, diag, slip_event, slip_node,
-    slip_val, cnt,
-):  # fmt: skip
+def _finish_event(ntouch, ev, state, graph, work, records):
     """Apply the slips, refresh keys of touched blocks, reset the work rows."""
+    z, keys, tree = state.z, state.keys, state.tree
+    W, IW, cnt = work.W, work.IW, work.cnt
+    slip_event, slip_node, slip_val = records.slip_event, records.slip_node, records.slip_val
     total = 0.0
     nblk = 0
     rec = slip_val.shape[0] > 0
@@ -100,7 +114,7 @@ def _finish_event(
     cnt[CNT_SLIP_ROWS] = row
     for q in range(ntouch):
         j = IW[TOUCH, q]
-        keys[j] = block_key(j, z, indptr, indices, kval, diag)
+        keys[j] = block_key(j, z, graph)
         tree_update(j, keys, tree)
         W[j, D] = 0.0
         W[j, P] = 0.0
@@ -110,14 +124,15 @@ def _finish_event(
 
 
 @inline_kernel
-def _one_event(
-    integrate, method, ev, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
-    ctrl, loc, cls, solo, slip_event, slip_node, slip_val, trace_nodes, trace_buf, cnt, out,
-):  # fmt: skip
+def _one_event(integrate, method, ev, state, graph, ctrl, cls, solo, work, records):
     """Load the plate to the next failure and run one slip event to its end.
 
-    ``out`` receives the event's catalog row (``layout.OUT_*``).  Returns a status code.
+    ``records.out`` receives the event's catalog row (``layout.OUT_*``).  Returns a status
+    code.
     """
+    scal, keys, tree = state.scal, state.keys, state.tree
+    W, IW, cnt = work.W, work.IW, work.cnt
+    out = records.out
     hyp = tree[1]
     # loaded to the threshold (force exactly 1), or already above it (given states)
     at_threshold = keys[hyp] >= scal[SCAL_W]
@@ -126,26 +141,22 @@ def _one_event(
     w = scal[SCAL_W]
     out[OUT_T] = scal[SCAL_OFFSET] + w
     out[OUT_HYPOCENTER] = hyp
-    if at_threshold and ctrl[CTRL_SOLO_CACHE] > 0.0 and trace_nodes.shape[0] == 0:
+    if at_threshold and ctrl[CTRL_SOLO_CACHE] > 0.0 and records.trace_nodes.shape[0] == 0:
         # free single-block slip: reuse the block class's solo slip when no
         # neighbour can reach the threshold during it
         c = cls[hyp]
         if not (solo[c, SOLO_SLIP] == solo[c, SOLO_SLIP]):
             s1, t1, n1, status = solo_slip(
-                integrate, method, hyp, ev, scal, z, keys, W, IW, indptr, indices, kval, diag,
-                oms, cfr, ctrl, loc, trace_nodes, trace_buf, cnt,
-            )  # fmt: skip
+                integrate, method, hyp, ev, state, ctrl, graph, work, records
+            )
             if status != STATUS_OK:
                 return status
             solo[c, SOLO_SLIP] = s1
             solo[c, SOLO_DURATION] = t1
             solo[c, SOLO_STEPS] = n1
         s1 = solo[c, SOLO_SLIP]
-        if solo_free(hyp, s1, w, keys, indptr, indices, kval):
-            solo_apply(
-                hyp, s1, ev, z, keys, tree, indptr, indices, kval, diag, slip_event, slip_node,
-                slip_val, cnt,
-            )  # fmt: skip
+        if solo_free(hyp, s1, w, keys, graph):
+            solo_apply(hyp, s1, ev, state, graph, cnt, records)
             out[OUT_DURATION] = solo[c, SOLO_DURATION]
             out[OUT_SLIP] = s1
             out[OUT_BLOCKS] = 1
@@ -153,24 +164,16 @@ def _one_event(
             return STATUS_OK
     zero = hyp - hyp  # int64, not a literal: one compiled signature per kernel
     ntouch = touch(hyp, w, keys, W, IW, zero)
-    nact, ntouch = activate(
-        hyp, zero, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-    )
-    nact, ntouch = join_scan(
-        zero, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-    )
-    if trace_nodes.shape[0] > 0:
-        record_trace(ev, 0.0, scal, z, W, trace_nodes, trace_buf, cnt)
+    nact, ntouch = activate(hyp, zero, ntouch, w, keys, graph, work)
+    nact, ntouch = join_scan(zero, nact, ntouch, w, keys, graph, work)
+    if records.trace_nodes.shape[0] > 0:
+        record_trace(ev, 0.0, state, work, records)
     status, t, nsteps, ntouch = integrate(
-        method, ev, nact, ntouch, w, keys, scal, z, W, IW, indptr, indices, kval, diag, oms, cfr,
-        ctrl, loc, trace_nodes, trace_buf, cnt,
-    )  # fmt: skip
+        method, ev, nact, ntouch, w, state, ctrl, graph, work, records
+    )
     if status != STATUS_OK:
         return status
-    total, nblk = _finish_event(
-        ntouch, ev, z, keys, tree, W, IW, indptr, indices, kval, diag, slip_event, slip_node,
-        slip_val, cnt,
-    )  # fmt: skip
+    total, nblk = _finish_event(ntouch, ev, state, graph, work, records)
     out[OUT_DURATION] = t
     out[OUT_SLIP] = total
     out[OUT_BLOCKS] = nblk
@@ -180,112 +183,75 @@ def _one_event(
 
 
 @kernel
-def _recentre(z, scal, keys, tree, indptr, indices, kval, diag):
+def _recentre(state, graph):
     """Shift the frame by an integer so the plate coordinate stays O(1)."""
+    z, scal = state.z, state.scal
     shift = math.floor(scal[SCAL_W])
     scal[SCAL_OFFSET] += shift
     scal[SCAL_W] -= shift
     for i in range(z.shape[0]):
         z[i] -= shift
-    build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree)
+    build_keys_and_tree(state, graph)
 
 
 @inline_kernel
-def _run_events(
-    integrate, method, n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms,
-    cfr, ctrl, loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes,
-    trace_buf, profiles, cnt, out,
-):  # fmt: skip
+def _run_events(integrate, method, n_req, ev0, state, graph, ctrl, cls, solo, work, records):
     """Run up to ``n_req`` events with ``integrate`` (:mod:`faultnet._kernels.slip`).
 
     State: ``z`` (displacements minus the frame offset), ``scal`` (the offset and the plate
     position relative to it, ``layout.SCAL_*``), ``keys`` and ``tree`` (consistent with z).
-    Catalog rows: ``cat_f[e] = (t, duration, S)``, ``cat_i[e] = (n_blocks, hypocenter,
-    n_steps)``.  Solo cache rows ``solo[c]``: ``layout.SOLO_*`` (NaN until computed).
+    Catalog rows: ``cat_f[e]`` and ``cat_i[e]`` (``layout.CAT_*``).
     """
+    z, scal = state.z, state.scal
+    cnt = work.cnt
+    cat_f, cat_i, profiles, out = records.cat_f, records.cat_i, records.profiles, records.out
     n = z.shape[0]
     for e in range(n_req):
-        if slip_val.shape[0] > 0 and cnt[CNT_SLIP_ROWS] + n > slip_val.shape[0]:
+        if records.slip_val.shape[0] > 0 and cnt[CNT_SLIP_ROWS] + n > records.slip_val.shape[0]:
             return STATUS_SLIPS_FULL
         status = _one_event(
-            integrate, method, ev0 + e, z, scal, keys, tree, W, IW, indptr, indices, kval, diag,
-            oms, cfr, ctrl, loc, cls, solo, slip_event, slip_node, slip_val, trace_nodes,
-            trace_buf, cnt, out,
-        )  # fmt: skip
+            integrate, method, ev0 + e, state, graph, ctrl, cls, solo, work, records
+        )
         if status != STATUS_OK:
             return status
-        cat_f[e, 0] = out[OUT_T]
-        cat_f[e, 1] = out[OUT_DURATION]
-        cat_f[e, 2] = out[OUT_SLIP]
-        cat_i[e, 0] = int(out[OUT_BLOCKS])
-        cat_i[e, 1] = int(out[OUT_HYPOCENTER])
-        cat_i[e, 2] = int(out[OUT_STEPS])
+        cat_f[e, CAT_T] = out[OUT_T]
+        cat_f[e, CAT_DURATION] = out[OUT_DURATION]
+        cat_f[e, CAT_S] = out[OUT_SLIP]
+        cat_i[e, CAT_BLOCKS] = int(out[OUT_BLOCKS])
+        cat_i[e, CAT_HYPOCENTER] = int(out[OUT_HYPOCENTER])
+        cat_i[e, CAT_STEPS] = int(out[OUT_STEPS])
         if profiles.shape[0] > 0:
             for i in range(n):
                 profiles[e, i] = scal[SCAL_OFFSET] + z[i]
         cnt[CNT_EVENTS] = e + 1
         if scal[SCAL_W] > RECENTRE_AT:
-            _recentre(z, scal, keys, tree, indptr, indices, kval, diag)
+            _recentre(state, graph)
     return STATUS_OK
 
 
 # The entries are written out, not made by a factory: Numba keys its on-disk cache by function
 # name and line, so closures of one factory would share (and clobber) an entry.
 @entry
-def run_events_rk4(
-    n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
-    loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes, trace_buf,
-    profiles, cnt, out,
-):  # fmt: skip
+def run_events_rk4(n_req, ev0, state, graph, ctrl, cls, solo, work, records):
     """:func:`_run_events` with classical RK4 steps and exact crossings."""
-    return _run_events(
-        integrate_exact, 0,
-        n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
-        ctrl, loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val,
-        trace_nodes, trace_buf, profiles, cnt, out,
-    )  # fmt: skip
+    return _run_events(integrate_exact, 0, n_req, ev0, state, graph, ctrl, cls, solo, work, records)
 
 
 @entry
-def run_events_dopri5(
-    n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
-    loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes, trace_buf,
-    profiles, cnt, out,
-):  # fmt: skip
+def run_events_dopri5(n_req, ev0, state, graph, ctrl, cls, solo, work, records):
     """:func:`_run_events` with Dormand-Prince 5(4) steps and exact crossings."""
-    return _run_events(
-        integrate_exact, 1,
-        n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
-        ctrl, loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val,
-        trace_nodes, trace_buf, profiles, cnt, out,
-    )  # fmt: skip
+    return _run_events(integrate_exact, 1, n_req, ev0, state, graph, ctrl, cls, solo, work, records)
 
 
 @entry
-def run_events_dopri5_local(
-    n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
-    loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes, trace_buf,
-    profiles, cnt, out,
-):  # fmt: skip
+def run_events_dopri5_local(n_req, ev0, state, graph, ctrl, cls, solo, work, records):
     """:func:`_run_events` with DP5 steps, exact crossings and local regions."""
-    return _run_events(
-        integrate_local, 1,
-        n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
-        ctrl, loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val,
-        trace_nodes, trace_buf, profiles, cnt, out,
-    )  # fmt: skip
+    return _run_events(integrate_local, 1, n_req, ev0, state, graph, ctrl, cls, solo, work, records)
 
 
 @entry
-def run_events_dopri5_interpolated(
-    n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
-    loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val, trace_nodes, trace_buf,
-    profiles, cnt, out,
-):  # fmt: skip
+def run_events_dopri5_interpolated(n_req, ev0, state, graph, ctrl, cls, solo, work, records):
     """:func:`_run_events` with DP5 steps and crossings on their dense output."""
     return _run_events(
-        integrate_interpolated, 1,
-        n_req, ev0, z, scal, keys, tree, W, IW, indptr, indices, kval, diag, oms, cfr,
-        ctrl, loc, cls, solo, cat_f, cat_i, slip_event, slip_node, slip_val,
-        trace_nodes, trace_buf, profiles, cnt, out,
-    )  # fmt: skip
+        integrate_interpolated, 1, n_req, ev0, state, graph, ctrl, cls, solo, work, records
+    )

@@ -72,41 +72,47 @@ UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
 
 
 @inline_kernel
-def force(i, pos, W, indptr, indices, kval, diag):
+def force(i, pos, W, graph):
     """Force on touched block ``i`` for the displacements in column ``pos`` of W.
 
-    Columns are passed by index, never as views: creating a view costs an atomic
-    reference-count update, which dominated the cost of a step.
+    ``graph``: :class:`~faultnet._kernels.bundles.Graph` (inlined: its fields are read once
+    per caller).  Columns are passed by index, never as views: creating a view costs an
+    atomic reference-count update, which dominated the cost of a step.
     """
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += kval[p] * W[indices[p], pos]
-    return W[i, F0] + s - diag[i] * W[i, pos]
+    return W[i, F0] + s - graph.diag[i] * W[i, pos]
 
 
 @inline_kernel
-def accel(i, pos, vel, W, indptr, indices, kval, diag, oms, cfr):
-    """Acceleration of slipping block ``i`` (columns ``pos``, ``vel`` of W).
+def accel(i, pos, vel, W, graph):
+    """Acceleration of slipping block ``i`` (columns ``pos``, ``vel`` of W; ``graph``: Graph).
 
     phi(v) = (1 - sigma) / (1 + 2 alpha v / (1 - sigma)); RK stages may probe
     small negative v, where the same analytic formula is used with its
     denominator floored at 1/2 (never reached with sane steps).
     """
-    den = 1.0 + cfr[i] * W[i, vel]
+    den = 1.0 + graph.cfr[i] * W[i, vel]
     if den < 0.5:
         den = 0.5
-    return force(i, pos, W, indptr, indices, kval, diag) - oms[i] / den
+    return force(i, pos, W, graph) - graph.oms[i] / den
 
 
 @kernel
-def rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
+def rk4_step(h, nact, graph, work):
     """Classical RK4 step of length ``h`` from (D, V, A) to (DN, VN, AN).
+
+    ``graph``, ``work``: :class:`~faultnet._kernels.bundles.Graph` and ``Work`` (only its
+    ``W`` and ``IW`` are used).
 
     Stage positions ping-pong between the columns P and P2, so each stage is a
     single pass over the active blocks (a block's own stage velocity is only
     read by itself).  Leaves ``P == P2 == DN`` on active blocks; D, V, A are
     untouched so the step can be redone with a shorter ``h``.
     """
+    W, IW = work.W, work.IW
     hh = 0.5 * h
     h6 = h / 6.0
     for q in range(nact):
@@ -117,28 +123,28 @@ def rk4_step(h, nact, IW, W, indptr, indices, kval, diag, oms, cfr):
         W[i, VS] = W[i, V] + hh * W[i, A]
     for q in range(nact):
         i = IW[ACT, q]
-        k2 = accel(i, P, VS, W, indptr, indices, kval, diag, oms, cfr)
+        k2 = accel(i, P, VS, W, graph)
         W[i, SV] += 2.0 * W[i, VS]
         W[i, SA] += 2.0 * k2
         W[i, P2] = W[i, D] + hh * W[i, VS]
         W[i, VS] = W[i, V] + hh * k2
     for q in range(nact):
         i = IW[ACT, q]
-        k3 = accel(i, P2, VS, W, indptr, indices, kval, diag, oms, cfr)
+        k3 = accel(i, P2, VS, W, graph)
         W[i, SV] += 2.0 * W[i, VS]
         W[i, SA] += 2.0 * k3
         W[i, P] = W[i, D] + h * W[i, VS]
         W[i, VS] = W[i, V] + h * k3
     for q in range(nact):
         i = IW[ACT, q]
-        k4 = accel(i, P, VS, W, indptr, indices, kval, diag, oms, cfr)
+        k4 = accel(i, P, VS, W, graph)
         W[i, DN] = W[i, D] + h6 * (W[i, SV] + W[i, VS])
         W[i, VN] = W[i, V] + h6 * (W[i, SA] + k4)
         W[i, P2] = W[i, DN]
     for q in range(nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]
-        W[i, AN] = accel(i, P2, VN, W, indptr, indices, kval, diag, oms, cfr)
+        W[i, AN] = accel(i, P2, VN, W, graph)
 
 
 @inline_kernel

@@ -2,9 +2,10 @@
 
 The exact treatment (:mod:`faultnet._kernels.stepping`, ``local.py``, ``landing.py``)
 reaches every crossing with the whole scheme, so an event keeps the fifth order of its DP5
-steps; on 2-D lattices that costs more than the steps themselves.  With ``ctrl[5] == 1`` the
-event loop takes every full step as it is and applies all the crossings found inside it at
-its end, from what the step has already computed:
+steps; on 2-D lattices that costs more than the steps themselves.  With this treatment
+(:func:`faultnet._kernels.slip.integrate_interpolated`) the event loop takes every full step
+as it is and applies all the crossings found inside it at its end, from what the step has
+already computed:
 
 - a *stop* of block b at fraction ``th``: b is put at its dense-output position at ``th``
   (4th order) with v = 0;
@@ -24,6 +25,9 @@ The neglected terms are the neighbours' own response to their correction over th
 the step and the dense output's error: the S error of an event grows like ``dt^4`` per
 crossing, against ``dt^5`` for the exact treatment (``faultnet.accuracy`` calibrates
 which to use for a given rtol).
+
+``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
+:class:`~faultnet._kernels.bundles.Work`.
 """
 
 from faultnet._kernels.context import LOC_NCAND, LOC_THETA, THETA_CACHE
@@ -49,6 +53,7 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 from faultnet._kernels.stepping import activate, deactivate, stick_scan
 from faultnet._kernels.tableau import KA, KV, slot_dense
 
@@ -59,19 +64,21 @@ JOINING = 4
 
 
 @kernel
-def _correct(b, dv, dx, W, IW, indptr, indices, kval):
+def _correct(b, dv, dx, graph, work):
     """Add k dv and k dx to the end velocity and position of b's slipping neighbours."""
-    for p in range(indptr[b], indptr[b + 1]):
-        n = indices[p]
+    W, IW, kval = work.W, work.IW, graph.kval
+    for p in range(graph.indptr[b], graph.indptr[b + 1]):
+        n = graph.indices[p]
         if IW[FLAG, n] == ACTIVE:
             W[n, VN] += kval[p] * dv
             W[n, DN] += kval[p] * dx
 
 
 @kernel
-def _stop(b, th, h, W, IW, indptr, indices, kval):
+def _stop(b, th, h, graph, work):
     """Block b stops at fraction th: its end position on the dense output, neighbours corrected."""
-    q = IW[APOS, b]
+    W = work.W
+    q = work.IW[APOS, b]
     c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, W, q, KV, W[b, VN])
     xs = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
     # antiderivatives P(s) = sum c_m s^(m+1)/(m+1), Q(s) = sum c_m s^(m+2)/(m+2)
@@ -84,11 +91,11 @@ def _stop(b, th, h, W, IW, indptr, indices, kval):
     i2 = xs * 0.5 * r * r - ((p1 - pt) - (q1 - qt))  # int_th^1 (1 - s)(x_s - p(s)) ds
     W[b, DN] = xs
     W[b, VN] = 0.0
-    _correct(b, h * i1, h * h * i2, W, IW, indptr, indices, kval)
+    _correct(b, h * i1, h * h * i2, graph, work)
 
 
 @kernel
-def _join(j, th, h, W, IW, indptr, indices, kval, diag, oms, cfr):
+def _join(j, th, h, graph, work):
     """Stuck block j reaches the threshold at fraction th: its Taylor start, neighbours corrected.
 
     The start is the Taylor series of j's path to the fourth power of the time since the
@@ -98,6 +105,9 @@ def _join(j, th, h, W, IW, indptr, indices, kval, diag, oms, cfr):
     velocity in ``W[j, SV]``, ``W[j, SA]`` (columns of the RK4 step, free with DP5) for
     :func:`interpolated_crossings`' second pass.
     """
+    W, IW = work.W, work.IW
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
+    diag, oms, cfr = graph.diag, graph.oms, graph.cfr
     df = 0.0
     ddf = 0.0
     for p in range(indptr[j], indptr[j + 1]):
@@ -119,29 +129,30 @@ def _join(j, th, h, W, IW, indptr, indices, kval, diag, oms, cfr):
     t3 = t2 * t
     dv = t3 * (a0 / 6.0 + t * (jerk / 24.0 + snap * t / 120.0))
     dx = t3 * t * (a0 / 24.0 + t * (jerk / 120.0 + snap * t / 720.0))
-    _correct(j, dv, dx, W, IW, indptr, indices, kval)
+    _correct(j, dv, dx, graph, work)
 
 
 @kernel
-def _refresh(b, W, IW, indptr, indices, kval, diag, oms, cfr):
+def _refresh(b, graph, work):
     """Accelerations of b's slipping neighbours (b has moved)."""
-    for p in range(indptr[b], indptr[b + 1]):
-        n = indices[p]
+    W, IW = work.W, work.IW
+    for p in range(graph.indptr[b], graph.indptr[b + 1]):
+        n = graph.indices[p]
         if IW[FLAG, n] == ACTIVE:
-            W[n, A] = accel(n, P, V, W, indptr, indices, kval, diag, oms, cfr)
+            W[n, A] = accel(n, P, V, W, graph)
 
 
 @inline_kernel
-def _join_at_threshold(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+def _join_at_threshold(j, nact, ntouch, w, keys, graph, work):
     """Activate touched stuck block j if its force is >= 1.  Returns (nact, ntouch)."""
-    flag = IW[FLAG, j]
-    if flag != ACTIVE and flag != UNTOUCHED and force(j, D, W, indptr, indices, kval, diag) >= 1.0:
-        return activate(j, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr)
+    flag = work.IW[FLAG, j]
+    if flag != ACTIVE and flag != UNTOUCHED and force(j, D, work.W, graph) >= 1.0:
+        return activate(j, nact, ntouch, w, keys, graph, work)
     return nact, ntouch
 
 
 @kernel
-def _joins_near(b, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+def _joins_near(b, nact, ntouch, w, keys, graph, work):
     """Joins at the end of a step near crossing block b: b and the blocks within two springs.
 
     After the step's scan listed every join, only b (stopped or started) and its neighbours
@@ -150,25 +161,18 @@ def _joins_near(b, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, om
     block a scan of the whole event would (the whole event's scan cost a sixth of the time on
     a 150^2 lattice at rtol 2e-5), in the order of the crossings.
     """
-    nact, ntouch = _join_at_threshold(
-        b, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-    )
+    indptr, indices = graph.indptr, graph.indices
+    nact, ntouch = _join_at_threshold(b, nact, ntouch, w, keys, graph, work)
     for p in range(indptr[b], indptr[b + 1]):
         n = indices[p]
-        nact, ntouch = _join_at_threshold(
-            n, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-        )
+        nact, ntouch = _join_at_threshold(n, nact, ntouch, w, keys, graph, work)
         for r in range(indptr[n], indptr[n + 1]):
-            nact, ntouch = _join_at_threshold(
-                indices[r], nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-            )
+            nact, ntouch = _join_at_threshold(indices[r], nact, ntouch, w, keys, graph, work)
     return nact, ntouch
 
 
 @kernel
-def interpolated_crossings(
-    h, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, loc, cnt
-):
+def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
     """Apply every crossing the step's scan listed (``IW[CAND]``) at the step's end; commit.
 
     Called after a DP5 step of length h with ``scan == 2`` (the list complete:
@@ -176,6 +180,7 @@ def interpolated_crossings(
     latest stop's fraction of the step (0.0 if none stopped), the event's end when
     no block is left slipping.
     """
+    W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
     ncand = int(loc[LOC_NCAND])
     one = ncand - ncand + 1  # int64: one signature of the crossing kernels
     th_stop = 0.0
@@ -189,16 +194,15 @@ def interpolated_crossings(
             if th > 1.0:
                 IW[CAND, c] = -1  # no stop after all
                 continue
-            _stop(b, th, h, W, IW, indptr, indices, kval)
+            _stop(b, th, h, graph, work)
             th_stop = max(th_stop, th)
             IW[CAND, c] = -2 - b
         elif IW[FLAG, b] != JOINING:
             if th > 1.0:
-                f0 = force(b, D, W, indptr, indices, kval, diag)
-                f1 = force(b, P2, W, indptr, indices, kval, diag)
-                th = 0.0 if f0 >= 1.0 else join_theta(one, h, one - one, b, f0, f1, W, IW, indptr,
-                                                      indices, kval)  # fmt: skip
-            _join(b, th, h, W, IW, indptr, indices, kval, diag, oms, cfr)
+                f0 = force(b, D, W, graph)
+                f1 = force(b, P2, W, graph)
+                th = 0.0 if f0 >= 1.0 else join_theta(one, h, one - one, b, f0, f1, graph, work)
+            _join(b, th, h, graph, work)
             IW[FLAG, b] = JOINING
         else:
             IW[CAND, c] = -1  # listed twice
@@ -217,32 +221,27 @@ def interpolated_crossings(
             b = -2 - e
             if IW[FLAG, b] == ACTIVE:
                 nact = deactivate(b, nact, W, IW)
-                cnt[14] += 1
+                cnt[CNT_INTERPOLATED_CROSSINGS] += 1
         elif e >= 0 and IW[FLAG, e] == JOINING:
             b = e
             W[b, D] += W[b, SV]
             x = W[b, D]
             W[b, P] = x
             W[b, P2] = x
-            nact, ntouch = activate(
-                b, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-            )
+            nact, ntouch = activate(b, nact, ntouch, w, keys, graph, work)
             W[b, V] = W[b, SA]
             W[b, VN] = W[b, SA]
-            cnt[14] += 1
+            cnt[CNT_INTERPOLATED_CROSSINGS] += 1
     for c in range(ncand):
         e = IW[CAND, c]
         b = -2 - e if e <= -2 else e
         if e != -1:
-            _refresh(b, W, IW, indptr, indices, kval, diag, oms, cfr)
+            _refresh(b, graph, work)
             if IW[FLAG, b] == ACTIVE:
-                W[b, A] = accel(b, P, V, W, indptr, indices, kval, diag, oms, cfr)
+                W[b, A] = accel(b, P, V, W, graph)
     for c in range(ncand):
         e = IW[CAND, c]
         if e != -1:
-            nact, ntouch = _joins_near(
-                -2 - e if e <= -2 else e, nact, ntouch, w, keys, W, IW, indptr, indices, kval,
-                diag, oms, cfr,
-            )  # fmt: skip
+            nact, ntouch = _joins_near(-2 - e if e <= -2 else e, nact, ntouch, w, keys, graph, work)
     nact = stick_scan(ntouch - ntouch, nact, W, IW)
     return nact, ntouch, th_stop

@@ -32,8 +32,12 @@ Scratch columns (free outside a step), by slot q of the active list:
 ``W[q, KV]``, ``W[q, KV + 1]`` the jerks at the start and the end of the
 step, ``W[q, KV + 3]``, ``W[q, KV + 4]`` the snaps, ``W[q, KV + 2]`` the
 landed velocity.
+
+``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
+:class:`~faultnet._kernels.bundles.Work`.
 """
 
+from faultnet._kernels.context import LOC_OUTER_H, LOC_REGION_T
 from faultnet._kernels.dopri import boundary_at, boundary_coeffs
 from faultnet._kernels.integrate import (
     ACT,
@@ -136,18 +140,19 @@ def _boundary_motion(b, th0, th1, W, IW, loc):
     """Velocity and acceleration of a local region's boundary block b at outer fractions th0, th1.
 
     The boundary follows the outer step's dense output (a quartic in the
-    fraction of the outer step, length ``loc[3]``), so these are its
+    fraction of the outer step, length ``loc[LOC_OUTER_H]``), so these are its
     derivatives, consistent with the positions the region's steps used.
     """
     c0, c1, c2, c3, c4 = boundary_coeffs(b, W, IW, loc)
-    v0, a0 = _quartic_rates(th0, loc[3], c1, c2, c3, c4)
-    v1, a1 = _quartic_rates(th1, loc[3], c1, c2, c3, c4)
+    v0, a0 = _quartic_rates(th0, loc[LOC_OUTER_H], c1, c2, c3, c4)
+    v1, a1 = _quartic_rates(th1, loc[LOC_OUTER_H], c1, c2, c3, c4)
     return v0, a0, v1, a1
 
 
 @inline_kernel
-def _jerk_snap(i, v, a, sv, sa, diag, oms, cfr):
+def _jerk_snap(i, v, a, sv, sa, graph):
     """Jerk and snap of block i from its v, a and the spring sums of its neighbours' v, a."""
+    diag, oms, cfr = graph.diag, graph.oms, graph.cfr
     den = 1.0 + cfr[i] * v
     if den < 0.5:  # the floored friction (never reached with sane steps) is constant
         return sv - diag[i] * v, sa - diag[i] * a
@@ -157,13 +162,15 @@ def _jerk_snap(i, v, a, sv, sa, diag, oms, cfr):
 
 
 @inline_kernel
-def _derivs(i, qb, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _derivs(i, qb, th0, th1, graph, work):
     """Jerk and snap (time derivatives of the acceleration) of block i at both ends of the step.
 
     Neighbours that are not slipping have zero velocity and acceleration; a
     local region's boundary blocks (slipping, in the outer list below ``qb``)
     move on the outer step's dense output, between its fractions th0 and th1.
     """
+    W, IW, loc = work.W, work.IW, work.loc
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     sv0 = sa0 = sv1 = sa1 = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         b = indices[p]
@@ -177,13 +184,13 @@ def _derivs(i, qb, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
             sa0 += c * a0
             sv1 += c * v1
             sa1 += c * a1
-    j0, s0 = _jerk_snap(i, W[i, V], W[i, A], sv0, sa0, diag, oms, cfr)
-    j1, s1 = _jerk_snap(i, W[i, VN], W[i, AN], sv1, sa1, diag, oms, cfr)
+    j0, s0 = _jerk_snap(i, W[i, V], W[i, A], sv0, sa0, graph)
+    j1, s1 = _jerk_snap(i, W[i, VN], W[i, AN], sv1, sa1, graph)
     return j0, s0, j1, s1
 
 
 @kernel
-def _join_theta(th, who, h, q0, W, IW, indptr, indices, kval, diag):
+def _join_theta(th, who, h, q0, graph, work):
     """Where the force on stuck block ``who`` reaches 1 on the step's interpolant; -1.0 if not
     next to ``th``.
 
@@ -192,6 +199,8 @@ def _join_theta(th, who, h, q0, W, IW, indptr, indices, kval, diag):
     Inside a local region those are the region's blocks (a join next to its
     boundary leaves the region: the scan returns theta 0, never landed here).
     """
+    W, IW = work.W, work.IW
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     h2 = h * h
     h3 = h2 * h
     g0 = g1 = a0 = a1 = j0 = j1 = 0.0
@@ -209,11 +218,11 @@ def _join_theta(th, who, h, q0, W, IW, indptr, indices, kval, diag):
             j0 += c * W[q, _J0]
             j1 += c * W[q, _J1]
     c0, c1, c2, c3, c4, c5, c6, c7 = septic_coeffs(
-        force(who, D, W, indptr, indices, kval, diag) - 1.0,
+        force(who, D, W, graph) - 1.0,
         h * g0,
         h2 * a0,
         h3 * j0,
-        force(who, P2, W, indptr, indices, kval, diag) - 1.0,
+        force(who, P2, W, graph) - 1.0,
         h * g1,
         h2 * a1,
         h3 * j1,
@@ -222,13 +231,14 @@ def _join_theta(th, who, h, q0, W, IW, indptr, indices, kval, diag):
 
 
 @kernel
-def _place(t, who, h, q0, nact, W, IW, indptr, indices, kval, diag, loc):
+def _place(t, who, h, q0, nact, graph, work):
     """Every slipping block's interpolated position (P, P2) and velocity (slot column) at ``t``.
 
     Returns True when no other block has crossed by then: every slipping
     block still moves forward and every other stuck neighbour is below the
     threshold.  Inside a local region its boundary is placed at ``t`` too.
     """
+    W, IW, loc = work.W, work.IW, work.loc
     h2 = h * h
     h3 = h2 * h
     for q in range(q0, nact):
@@ -251,44 +261,43 @@ def _place(t, who, h, q0, nact, W, IW, indptr, indices, kval, diag, loc):
             return False
         W[q, _VL] = v
     if q0 > 0:
-        boundary_at(loc[2] + t * h / loc[3], W, IW, loc)
+        boundary_at(loc[LOC_REGION_T] + t * h / loc[LOC_OUTER_H], W, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
-        for p in range(indptr[i], indptr[i + 1]):
-            j = indices[p]
+        for p in range(graph.indptr[i], graph.indptr[i + 1]):
+            j = graph.indices[p]
             if j != who and IW[FLAG, j] != ACTIVE:
-                if force(j, P, W, indptr, indices, kval, diag) >= 1.0:
+                if force(j, P, W, graph) >= 1.0:
                     return False
     return True
 
 
 @kernel
-def land(th, who, h, q0, qb, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
+def land(th, who, h, q0, qb, nact, graph, work):
     """Move the slipping blocks ``IW[ACT, q0:nact]`` to the join of ``who`` inside the step just
     taken; commit there.
 
     ``th`` is the dense output's estimate of the join (a fraction of the
     step of length ``h``).  Inside a local region (``q0 > 0``) the step
-    starts at fraction ``loc[2]`` of the outer step, whose dense output its
+    starts at fraction ``loc[LOC_REGION_T]`` of the outer step, whose dense output its
     boundary (slipping blocks with ``IW[APOS] < qb``) follows; with ``qb = 0``
     the step is the outer step itself, every block at its ends.  Returns the
     time advanced, or -1.0 when the landing is not clean; the committed state
     (D, V, A) is then unchanged and the positions P, P2 of the slipping blocks
     are rewritten by the next step.
     """
+    W, IW, loc = work.W, work.IW, work.loc
     th0 = th1 = 0.0
     if qb > 0:
-        th0 = loc[2]
-        th1 = th0 + h / loc[3]
+        th0 = loc[LOC_REGION_T]
+        th1 = th0 + h / loc[LOC_OUTER_H]
     for q in range(q0, nact):
         i = IW[ACT, q]
-        W[q, _J0], W[q, _S0], W[q, _J1], W[q, _S1] = _derivs(
-            i, qb, th0, th1, W, IW, indptr, indices, kval, diag, oms, cfr, loc
-        )
-    t = _join_theta(th, who, h, q0, W, IW, indptr, indices, kval, diag)
+        W[q, _J0], W[q, _S0], W[q, _J1], W[q, _S1] = _derivs(i, qb, th0, th1, graph, work)
+    t = _join_theta(th, who, h, q0, graph, work)
     if t < 0.0:
         return -1.0
-    if not _place(t, who, h, q0, nact, W, IW, indptr, indices, kval, diag, loc):
+    if not _place(t, who, h, q0, nact, graph, work):
         return -1.0
     for q in range(q0, nact):
         i = IW[ACT, q]
@@ -300,7 +309,7 @@ def land(th, who, h, q0, qb, nact, IW, W, indptr, indices, kval, diag, oms, cfr,
         W[i, VN] = v
     for q in range(q0, nact):
         i = IW[ACT, q]
-        a = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
+        a = accel(i, P, V, W, graph)
         W[i, A] = a
         W[i, AN] = a
     return t * h

@@ -7,9 +7,22 @@ The Python layer and the kernels read and write these arrays only through the na
 ``cnt`` (int64[CNT_SIZE]): counters of the current call.
 ``out`` (float64[OUT_SIZE]): the last event's catalog row, as the kernel left it.
 ``solo`` (float64[n_classes, SOLO_SIZE]): the cached solo slip of each parameter class.
+``cat_f`` (float64[n_events, CAT_F_SIZE]), ``cat_i`` (int64[n_events, CAT_I_SIZE]): the event
+catalog, one row per event.
+``trace_buf`` (float64[rows, TRACE_X + 2 m]): one row per step of an event for the ``m`` traced
+blocks: the event, the time, their positions ``[TRACE_X, TRACE_X + m)`` and velocities
+``[TRACE_X + m, TRACE_X + 2 m)``.
 """
 
 __all__ = [
+    "CAT_BLOCKS",
+    "CAT_DURATION",
+    "CAT_F_SIZE",
+    "CAT_HYPOCENTER",
+    "CAT_I_SIZE",
+    "CAT_S",
+    "CAT_STEPS",
+    "CAT_T",
     "CNT_BLOCK_STEPS",
     "CNT_EVENTS",
     "CNT_INTERPOLATED_CROSSINGS",
@@ -46,6 +59,9 @@ __all__ = [
     "SOLO_SIZE",
     "SOLO_SLIP",
     "SOLO_STEPS",
+    "TRACE_EVENT",
+    "TRACE_TIME",
+    "TRACE_X",
 ]
 
 CTRL_DT = 0  #: integration step inside events
@@ -88,3 +104,16 @@ SOLO_SLIP = 0  #: a parameter class's solo slip (NaN until computed)
 SOLO_DURATION = 1  #: its duration
 SOLO_STEPS = 2  #: its integration steps
 SOLO_SIZE = 3
+
+CAT_T = 0  #: ``cat_f`` column: plate time of the event's start
+CAT_DURATION = 1  #: ``cat_f`` column: the event's duration
+CAT_S = 2  #: ``cat_f`` column: its total slip S
+CAT_F_SIZE = 3
+CAT_BLOCKS = 0  #: ``cat_i`` column: the blocks that slipped
+CAT_HYPOCENTER = 1  #: ``cat_i`` column: block index of the hypocentre
+CAT_STEPS = 2  #: ``cat_i`` column: integration steps the event took
+CAT_I_SIZE = 3
+
+TRACE_EVENT = 0  #: ``trace_buf`` column: the event's number
+TRACE_TIME = 1  #: ``trace_buf`` column: time since the event's start
+TRACE_X = 2  #: ``trace_buf`` columns from here: the traced blocks' positions, then velocities

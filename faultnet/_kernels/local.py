@@ -32,17 +32,30 @@ the slipping blocks outside keep their full-step results.
   ``events._LOCAL_CROSSINGS`` crossings.
 
 Row ``REGION`` holds a region's id for its blocks and stuck neighbours and
-minus the id for its boundary; ids come from a counter (``cnt[11]``) and grow,
+minus the id for its boundary; ids come from a counter (``cnt[CNT_REGION_IDS]``) and grow,
 so no reset is needed between steps.  ``loc`` is the context shared with the
 step kernels (its layout: :mod:`faultnet._kernels.context`): the boundary, the
 region step's times, the saves, the boundary blocks' dense-output coefficients
 (:func:`faultnet._kernels.dopri.cache_boundary`) and the crossings the outer
 step's scan listed.
+
+``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
+:class:`~faultnet._kernels.bundles.Work` (``W``, ``IW``, ``loc``, ``cnt``).
 """
 
 import numpy as np
 
-from faultnet._kernels.context import LOC_NCAND, LOC_THETA, THETA_CACHE
+from faultnet._kernels.context import (
+    LOC_BND_END,
+    LOC_BND_START,
+    LOC_NCAND,
+    LOC_NSAVED,
+    LOC_OUTER_H,
+    LOC_REGION_T,
+    LOC_STEP_ID,
+    LOC_THETA,
+    THETA_CACHE,
+)
 from faultnet._kernels.crossing import (
     JOIN,
     STATUS_OK,
@@ -80,6 +93,14 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.layout import (
+    CNT_BLOCK_STEPS,
+    CNT_LOCAL_FALLBACKS,
+    CNT_LOCAL_STEPS,
+    CNT_REGION_BLOCK_STEPS,
+    CNT_REGION_IDS,
+    CTRL_MAX_VELOCITY,
+)
 from faultnet._kernels.stepping import apply_crossing, commit, step_scan, to_crossing
 
 __all__ = ["RHO", "local_step"]
@@ -92,27 +113,30 @@ _MAX_SUB_STEPS = 10000
 
 @kernel
 def _new_id(cnt):
-    cnt[11] += 1
-    return cnt[11]
+    """A fresh id (regions, steps, marks) from the counter ``cnt[CNT_REGION_IDS]``."""
+    cnt[CNT_REGION_IDS] += 1
+    return cnt[CNT_REGION_IDS]
 
 
 @kernel
-def _save(i, step_id, W, IW, loc):
+def _save(i, step_id, work):
     """Keep block i's state at the start of the step (once per step) for a fallback."""
+    W, IW, loc = work.W, work.IW, work.loc
     if IW[SAVE, i] // 4 != step_id:
         IW[SAVE, i] = step_id * 4 + IW[FLAG, i]
         W[i, SV] = W[i, D]
         W[i, SA] = W[i, V]
         W[i, VS] = W[i, A]
-        ns = int(loc[4])
+        ns = int(loc[LOC_NSAVED])
         IW[SLIST, ns] = i
-        loc[4] = ns + 1
+        loc[LOC_NSAVED] = ns + 1
 
 
 @kernel
-def _restore(nact, W, IW, loc):
+def _restore(nact, work):
     """Undo every region of this step: saved blocks back to the start of the step."""
-    for r in range(int(loc[4])):
+    W, IW = work.W, work.IW
+    for r in range(int(work.loc[LOC_NSAVED])):
         i = IW[SLIST, r]
         f = IW[SAVE, i] % 4
         IW[FLAG, i] = f
@@ -152,7 +176,7 @@ def _listed(mark, IW, loc):
 
 
 @kernel
-def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc):
+def _collect(hh, nact, mark, graph, work):
     """Every block with a crossing inside the full step just taken, into ``IW[CAND]``.
 
     Where the outer step's dense output puts the crossing is kept in ``loc``
@@ -162,6 +186,8 @@ def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc):
     step's scan lists the same (:func:`_listed`); this is for when it listed
     more than ``IW[CAND]`` holds.
     """
+    W, IW, loc = work.W, work.IW, work.loc
+    indptr, indices = graph.indptr, graph.indices
     n = 0
     zero = n - n  # int64, not a literal: the scan's signature of join_theta
     for q in range(nact):
@@ -175,13 +201,13 @@ def _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc):
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
             if IW[FLAG, j] != ACTIVE and IW[MARK, j] != mark:
-                f1 = force(j, P2, W, indptr, indices, kval, diag)
+                f1 = force(j, P2, W, graph)
                 if f1 >= 1.0:
                     IW[MARK, j] = mark
-                    f0 = force(j, D, W, indptr, indices, kval, diag)
+                    f0 = force(j, D, W, graph)
                     th = 0.0
                     if f0 < 1.0:
-                        th = join_theta(1, hh, zero, j, f0, f1, W, IW, indptr, indices, kval)
+                        th = join_theta(1, hh, zero, j, f0, f1, graph, work)
                     candidate(n, j, th, IW, loc)
                     n += 1
     return n
@@ -213,11 +239,12 @@ def _first_crossing(cid, ncand, IW, loc):
 
 
 @kernel
-def _grow(c, cur, q0, step_id, mark, W, IW, indptr, indices, loc):
+def _grow(c, cur, q0, step_id, mark, graph, work):
     """Append the slipping blocks within RHO of block c not yet in the union ``cur``.
 
     The union is the list ``IW[ACT, q0:end]``; returns the new ``end``.
     """
+    IW, indptr, indices = work.IW, graph.indptr, graph.indices
     end = q0
     IW[MARK, c] = mark
     IW[QUEUE, 0] = c
@@ -229,7 +256,7 @@ def _grow(c, cur, q0, step_id, mark, W, IW, indptr, indices, loc):
             head += 1
             if IW[FLAG, i] == ACTIVE and IW[REGION, i] != cur:
                 IW[REGION, i] = cur
-                _save(i, step_id, W, IW, loc)
+                _save(i, step_id, work)
                 IW[ACT, end] = i
                 IW[APOS, i] = end
                 end += 1
@@ -244,37 +271,39 @@ def _grow(c, cur, q0, step_id, mark, W, IW, indptr, indices, loc):
 
 
 @kernel
-def _border(m, cur, base, W, IW, loc):
+def _border(m, cur, base, work):
     """Add slipping block m (outside the region) to the boundary; False on a conflict."""
+    W, IW, loc = work.W, work.IW, work.loc
     reg = IW[REGION, m]
     if reg == cur or reg == -cur:
         return True
     if reg > base:
         return False  # another component's: not by construction, fall back
-    nb_ = int(loc[1])
+    nb_ = int(loc[LOC_BND_END])
     if nb_ >= IW.shape[1]:
         return False
     IW[REGION, m] = -cur
     IW[BND, nb_] = m
-    loc[1] = nb_ + 1
+    loc[LOC_BND_END] = nb_ + 1
     cache_boundary(nb_, m, W, IW, loc)
     return True
 
 
 @kernel
-def _enclose(cur, base, q0, end, step_id, W, IW, indptr, indices, loc):
+def _enclose(cur, base, q0, end, step_id, graph, work):
     """Claim the stuck neighbours of the region's blocks; collect its boundary.
 
     Returns False when a stuck neighbour or a boundary block belongs to another
     component (excluded by the three-spring components; a guard, not a path).
     """
-    loc[0] = loc[1]
+    IW, loc, indptr, indices = work.IW, work.loc, graph.indptr, graph.indices
+    loc[LOC_BND_START] = loc[LOC_BND_END]
     for q in range(q0, end):
         i = IW[ACT, q]
         for p in range(indptr[i], indptr[i + 1]):
             j = indices[p]
             if IW[FLAG, j] == ACTIVE:
-                if not _border(j, cur, base, W, IW, loc):
+                if not _border(j, cur, base, work):
                     return False
                 continue
             reg = IW[REGION, j]
@@ -282,10 +311,10 @@ def _enclose(cur, base, q0, end, step_id, W, IW, indptr, indices, loc):
                 if reg > base:
                     return False
                 IW[REGION, j] = cur
-                _save(j, step_id, W, IW, loc)
+                _save(j, step_id, work)
             for p2 in range(indptr[j], indptr[j + 1]):
                 m = indices[p2]
-                if IW[FLAG, m] == ACTIVE and not _border(m, cur, base, W, IW, loc):
+                if IW[FLAG, m] == ACTIVE and not _border(m, cur, base, work):
                     return False
     return True
 
@@ -311,8 +340,9 @@ def _escapes(j, cur, IW, indptr, indices):
 
 
 @kernel
-def _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc):
+def _claim_neighbours(q0, nact, cur, base, step_id, graph, work):
     """Save and claim the stuck neighbours of the region's slipping blocks before joins."""
+    IW, indptr, indices = work.IW, graph.indptr, graph.indices
     for q in range(q0, nact):
         i = IW[ACT, q]
         for p in range(indptr[i], indptr[i + 1]):
@@ -321,15 +351,14 @@ def _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc)
                 if IW[REGION, j] > base:
                     return False
                 IW[REGION, j] = cur
-                _save(j, step_id, W, IW, loc)
+                _save(j, step_id, work)
     return True
 
 
 @inline_kernel
 def _sub_run(
-    hh, q0, nact, ntouch, cur, base, step_id, s0, th1, who1, kind1, w, keys, W, IW, indptr,
-    indices, kval, diag, oms, cfr, ctrl, loc, cnt,
-):  # fmt: skip
+    hh, q0, nact, ntouch, cur, base, step_id, s0, th1, who1, kind1, w, keys, ctrl, graph, work
+):
     """Integrate the region ``IW[ACT, q0:nact]`` over the whole outer step (length hh).
 
     With ``who1 >= 0`` the region's first crossing is block who1's (kind1),
@@ -342,7 +371,9 @@ def _sub_run(
     regions by it and retries), -2 when out of work space or steps (the
     caller falls back), else -1.
     """
-    vmax = ctrl[2]
+    W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
+    indptr, indices = graph.indptr, graph.indices
+    vmax = ctrl[CTRL_MAX_VELOCITY]
     tau = 0.0
     n = 0
     cap = W.shape[0]
@@ -350,42 +381,35 @@ def _sub_run(
         h = hh - tau
         if h <= 1e-12 * hh:
             break
-        loc[2] = tau / hh
+        loc[LOC_REGION_T] = tau / hh
         qb = q0  # a join is landed on the region's step (boundary on the outer dense output)
         if who1 >= 0:
             th, who, kind = th1, who1, kind1
             who1 = -1
             qb = q0 - q0  # ... or on the outer step, every block at its ends
         else:
-            th, who, kind, status = step_scan(
-                1, h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, n - n + 1, loc
-            )
+            th, who, kind, status = step_scan(1, h, q0, nact, vmax, n - n + 1, graph, work)
             n += 1
-            cnt[4] += nact - q0
+            cnt[CNT_BLOCK_STEPS] += nact - q0
             if status != STATUS_OK:
                 return status, nact, ntouch, n, -1
             if who < 0:
                 commit(q0, nact, W, IW)
                 break
-        hs, who, kind, k, status = to_crossing(
-            th, who, kind, h, 1, q0, qb, nact, IW, W, indptr, indices, kval, diag, oms, cfr,
-            vmax, loc, cnt,
-        )  # fmt: skip
+        hs, who, kind, k, status = to_crossing(th, who, kind, h, 1, q0, qb, nact, vmax, graph, work)
         n += k
         if status != STATUS_OK:
             return status, nact, ntouch, n, -1
         if _escapes(who, cur, IW, indptr, indices):
             return STATUS_OK, nact, ntouch, n, who
         tau += hs
-        loc[2] = tau / hh
-        boundary_at(loc[2], W, IW, loc)
-        if not _claim_neighbours(q0, nact, cur, base, step_id, W, IW, indptr, indices, loc):
+        loc[LOC_REGION_T] = tau / hh
+        boundary_at(loc[LOC_REGION_T], W, IW, loc)
+        if not _claim_neighbours(q0, nact, cur, base, step_id, graph, work):
             return STATUS_OK, nact, ntouch, n, who
-        nact, ntouch = apply_crossing(
-            who, kind, q0, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
-        )
+        nact, ntouch = apply_crossing(who, kind, q0, nact, ntouch, w, keys, graph, work)
         # every block that started or stopped must have its neighbourhood inside
-        for r in range(s0, int(loc[4])):
+        for r in range(s0, int(loc[LOC_NSAVED])):
             i = IW[SLIST, r]
             if IW[REGION, i] == cur and (IW[FLAG, i] == ACTIVE) != (IW[SAVE, i] % 4 == ACTIVE):
                 if _escapes(i, cur, IW, indptr, indices):
@@ -396,26 +420,28 @@ def _sub_run(
 
 
 @kernel
-def _quiet(cur, s0, W, IW, indptr, indices, kval, diag, loc):
+def _quiet(cur, s0, graph, work):
     """A stuck block of the region at the threshold at the end of the step, or -1.
 
     A stuck block whose slipping neighbours in the region all stopped is not
     scanned in the region's last steps; its force at the end is checked here
     (the boundary at its end position, column P2).
     """
+    W, IW, loc = work.W, work.IW, work.loc
     boundary_at(1.0, W, IW, loc)
-    for r in range(s0, int(loc[4])):
+    for r in range(s0, int(loc[LOC_NSAVED])):
         j = IW[SLIST, r]
         if IW[FLAG, j] != ACTIVE and IW[REGION, j] == cur:
-            if force(j, P2, W, indptr, indices, kval, diag) >= 1.0:
+            if force(j, P2, W, graph) >= 1.0:
                 return j
     return np.int64(-1)
 
 
 @kernel
-def _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _finish(nact, nres, graph, work):
     """Commit the blocks outside every region; the new active list; returns its length."""
-    step_id = np.int64(loc[5])
+    W, IW, loc = work.W, work.IW, work.loc
+    step_id = np.int64(loc[LOC_STEP_ID])
     nrest = 0
     for q in range(nact):
         i = IW[ACT, q]
@@ -433,10 +459,10 @@ def _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
         IW[APOS, i] = nrest
         nrest += 1
     # boundary blocks' accelerations with their region neighbours' new positions
-    for r in range(int(loc[1])):
+    for r in range(int(loc[LOC_BND_END])):
         b = IW[BND, r]
         if IW[FLAG, b] == ACTIVE and IW[SAVE, b] // 4 != step_id:
-            W[b, A] = accel(b, D, V, W, indptr, indices, kval, diag, oms, cfr)
+            W[b, A] = accel(b, D, V, W, graph)
     for q in range(nrest):
         i = IW[ACT, q]
         W[i, P] = W[i, D]
@@ -500,10 +526,7 @@ def _component(s, cur, cid, q, IW, indptr, indices):
 
 
 @inline_kernel
-def _attempt(
-    hh, nact, ncand, nfirst, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
-    loc, cnt,
-):  # fmt: skip
+def _attempt(hh, nact, ncand, nfirst, ntouch, w, keys, ctrl, graph, work):
     """Regions around the candidates ``IW[CAND, :ncand]``, each integrated over the step.
 
     A region whose candidates are all among the first ``nfirst`` (located by
@@ -514,13 +537,14 @@ def _attempt(
     blocks at the end are ``IW[RES, :nres]``; ``escaper`` >= 0 names a block
     whose crossing left its region (the caller restores and retries).
     """
-    step_id = np.int64(loc[5])  # saves are kept once per step, whatever the attempt
+    IW, loc, cnt = work.IW, work.loc, work.cnt
+    step_id = np.int64(loc[LOC_STEP_ID])  # saves are kept once per step, whatever the attempt
     base = _new_id(cnt)
     cur = _new_id(cnt)
     q0 = nact
     uend = q0
     for k in range(ncand):
-        uend = _grow(IW[CAND, k], cur, uend, step_id, _new_id(cnt), W, IW, indptr, indices, loc)
+        uend = _grow(IW[CAND, k], cur, uend, step_id, _new_id(cnt), graph, work)
         if q0 + 2 * (uend - q0) + _SPARE >= IW.shape[1]:
             return STATUS_OK, q0 - q0, ntouch, q0 - q0, np.int64(-2)
     nres = 0
@@ -529,19 +553,19 @@ def _attempt(
         if IW[REGION, IW[ACT, u]] != cur:
             continue
         cid = _new_id(cnt)
-        end = _component(IW[ACT, u], cur, cid, uend, IW, indptr, indices)
-        s0 = int(loc[4])
-        if end < 0 or not _enclose(cid, base, uend, end, step_id, W, IW, indptr, indices, loc):
+        end = _component(IW[ACT, u], cur, cid, uend, IW, graph.indptr, graph.indices)
+        s0 = int(loc[LOC_NSAVED])
+        if end < 0 or not _enclose(cid, base, uend, end, step_id, graph, work):
             return STATUS_OK, nres, ntouch, steps, np.int64(-2)
         th1, who1, kind1 = _first_crossing(cid, nfirst, IW, loc)
         status, end, ntouch, n, esc = _sub_run(
-            hh, uend, end, ntouch, cid, base, step_id, s0, th1, who1, kind1, w, keys, W, IW,
-            indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt,
+            hh, uend, end, ntouch, cid, base, step_id, s0, th1, who1, kind1, w, keys, ctrl, graph,
+            work,
         )  # fmt: skip
         steps += n
         if status != STATUS_OK or esc >= 0:
             return status, nres, ntouch, steps, esc
-        esc = _quiet(cid, s0, W, IW, indptr, indices, kval, diag, loc)
+        esc = _quiet(cid, s0, graph, work)
         if esc >= 0:
             return STATUS_OK, nres, ntouch, steps, esc
         for q in range(uend, end):
@@ -559,52 +583,50 @@ _MAX_ATTEMPTS = 4
 
 
 @inline_kernel
-def local_step(
-    hh, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
-):
+def local_step(hh, nact, ntouch, w, keys, ctrl, graph, work):
     """Handle the crossings inside the full DP5 step just taken (length hh) in local regions.
 
     Returns (status, nact, ntouch, steps, candidates, done).  ``done`` False:
     nothing changed since the full step (every region undone), the caller
-    handles the step as usual.  Counters: ``cnt[9]`` steps done locally,
-    ``cnt[10]`` fallbacks, ``cnt[12]`` block-steps inside the regions (undone
-    attempts included).
+    handles the step as usual.  Counters: ``cnt[CNT_LOCAL_STEPS]`` steps done locally,
+    ``cnt[CNT_LOCAL_FALLBACKS]`` fallbacks, ``cnt[CNT_REGION_BLOCK_STEPS]`` block-steps inside
+    the regions (undone attempts included).
     """
-    c4 = cnt[4]
-    loc[5] = _new_id(cnt)  # saves are kept once per step, whatever the attempt
-    loc[3] = hh
-    loc[4] = 0.0
+    IW, loc, cnt = work.IW, work.loc, work.cnt
+    c4 = cnt[CNT_BLOCK_STEPS]
+    loc[LOC_STEP_ID] = _new_id(cnt)  # saves are kept once per step, whatever the attempt
+    loc[LOC_OUTER_H] = hh
+    loc[LOC_NSAVED] = 0.0
     mark = _new_id(cnt)
     ncand = _listed(mark, IW, loc)
     if ncand < 0:
-        ncand = _collect(hh, nact, mark, W, IW, indptr, indices, kval, diag, loc)
+        ncand = _collect(hh, nact, mark, graph, work)
     ncand0 = ncand
     steps = 0
     for attempt in range(_MAX_ATTEMPTS):
-        loc[0] = 0.0
-        loc[1] = 0.0
+        loc[LOC_BND_START] = 0.0
+        loc[LOC_BND_END] = 0.0
         # a retry starts every region with a step of its own (the regions' blocks no longer
         # hold the outer step's end state)
         nfirst = ncand if attempt == 0 else ncand - ncand
         status, nres, ntouch, n, esc = _attempt(
-            hh, nact, ncand, nfirst, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms,
-            cfr, ctrl, loc, cnt,
-        )  # fmt: skip
+            hh, nact, ncand, nfirst, ntouch, w, keys, ctrl, graph, work
+        )
         steps += n
         if status == STATUS_OK and esc == -1:
-            nact = _finish(nact, nres, W, IW, indptr, indices, kval, diag, oms, cfr, loc)
-            loc[0] = 0.0
-            loc[1] = 0.0
-            cnt[9] += 1
-            cnt[12] += cnt[4] - c4
+            nact = _finish(nact, nres, graph, work)
+            loc[LOC_BND_START] = 0.0
+            loc[LOC_BND_END] = 0.0
+            cnt[CNT_LOCAL_STEPS] += 1
+            cnt[CNT_REGION_BLOCK_STEPS] += cnt[CNT_BLOCK_STEPS] - c4
             return STATUS_OK, nact, ntouch, steps, ncand0, True
-        _restore(nact, W, IW, loc)
+        _restore(nact, work)
         if status != STATUS_OK or esc < 0 or ncand >= IW.shape[1]:
             break
         IW[CAND, ncand] = esc
         ncand += 1
-    loc[0] = 0.0
-    loc[1] = 0.0
-    cnt[10] += 1
-    cnt[12] += cnt[4] - c4
+    loc[LOC_BND_START] = 0.0
+    loc[LOC_BND_END] = 0.0
+    cnt[CNT_LOCAL_FALLBACKS] += 1
+    cnt[CNT_REGION_BLOCK_STEPS] += cnt[CNT_BLOCK_STEPS] - c4
     return status, nact, ntouch, steps, ncand0, False

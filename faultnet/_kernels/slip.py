@@ -16,12 +16,10 @@ the treatment it uses:
 
 Arguments (shared by the three): ``method`` (literal 0 RK4, 1 DP5), ``ev`` (the event's
 number, for traces), ``nact`` / ``ntouch`` (lengths of the active and touched lists),
-``w`` (plate position), ``keys`` (failure keys), ``scal`` (frame, ``layout.SCAL_*``), ``z``
-(positions), ``W`` / ``IW`` (float and int work, :mod:`faultnet._kernels.integrate`), the CSR
-graph ``indptr``, ``indices``, ``kval`` with ``diag`` (stiffness), ``oms`` (1 - sigma) and
-``cfr`` (2 alpha / (1 - sigma)), ``ctrl`` (options, ``layout.CTRL_*``), ``loc`` (step context,
-:mod:`faultnet._kernels.context`), ``trace_nodes`` / ``trace_buf`` (trajectory recording) and
-``cnt`` (counters, ``layout.CNT_*``).
+``w`` (plate position), ``ctrl`` (options, ``layout.CTRL_*``) and the bundles
+(:mod:`faultnet._kernels.bundles`) ``state`` (positions, frame and failure keys), ``graph``
+(topology and per-block parameters), ``work`` (work space, step context and counters) and
+``records`` (only the trajectory recording, ``trace_nodes`` / ``trace_buf``, is used here).
 """
 
 from faultnet._kernels.context import LOC_NCAND
@@ -38,6 +36,9 @@ from faultnet._kernels.layout import (
     CTRL_MAX_DURATION,
     CTRL_MAX_VELOCITY,
     SCAL_OFFSET,
+    TRACE_EVENT,
+    TRACE_TIME,
+    TRACE_X,
 )
 from faultnet._kernels.local import local_step
 from faultnet._kernels.stepping import (
@@ -58,19 +59,24 @@ MIN_STEP = 1.0 / 16.0
 
 
 @kernel
-def record_trace(ev, t, scal, z, W, trace_nodes, trace_buf, cnt):
-    """Append (event, time, positions, velocities) of the traced blocks to ``trace_buf``."""
+def record_trace(ev, t, state, work, records):
+    """Append (event, time, positions, velocities) of the traced blocks to ``trace_buf``.
+
+    ``state``, ``work``, ``records``: the bundles of :mod:`faultnet._kernels.bundles`.
+    """
+    z, scal, W, cnt = state.z, state.scal, work.W, work.cnt
+    trace_nodes, trace_buf = records.trace_nodes, records.trace_buf
     row = cnt[CNT_TRACE_ROWS]
     if row >= trace_buf.shape[0]:
         cnt[CNT_TRACE_FULL] = 1
         return
     m = trace_nodes.shape[0]
-    trace_buf[row, 0] = ev
-    trace_buf[row, 1] = t
+    trace_buf[row, TRACE_EVENT] = ev
+    trace_buf[row, TRACE_TIME] = t
     for c in range(m):
         j = trace_nodes[c]
-        trace_buf[row, 2 + c] = scal[SCAL_OFFSET] + (z[j] + W[j, D])
-        trace_buf[row, 2 + m + c] = W[j, V]
+        trace_buf[row, TRACE_X + c] = scal[SCAL_OFFSET] + (z[j] + W[j, D])
+        trace_buf[row, TRACE_X + m + c] = W[j, V]
     cnt[CNT_TRACE_ROWS] = row + 1
 
 
@@ -81,9 +87,7 @@ def _max_steps(ctrl):
 
 
 @kernel
-def no_regions(
-    h, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl, loc, cnt
-):
+def no_regions(h, nact, ntouch, w, keys, ctrl, graph, work):
     """Stands in for :func:`~faultnet._kernels.local.local_step` where regions are off.
 
     Never called (``ctrl[CTRL_LOCAL_FROM]`` is inf), only typed.
@@ -93,15 +97,14 @@ def no_regions(
 
 
 @inline_kernel
-def _exact_loop(
-    method, regions, ev, nact, ntouch, w, keys, scal, z, W, IW, indptr, indices, kval, diag,
-    oms, cfr, ctrl, loc, trace_nodes, trace_buf, cnt,
-):  # fmt: skip
+def _exact_loop(method, regions, ev, nact, ntouch, w, state, ctrl, graph, work, records):
     """The exact treatment; ``regions`` handles a large event's step in local regions."""
+    W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
+    keys = state.keys
     dt, vmax = ctrl[CTRL_DT], ctrl[CTRL_MAX_VELOCITY]
     n_local = ctrl[CTRL_LOCAL_FROM]
     max_steps = _max_steps(ctrl)
-    tracing = trace_nodes.shape[0] > 0
+    tracing = records.trace_nodes.shape[0] > 0
     t = 0.0
     nsteps = 0
     zero = nsteps - nsteps  # int64, not a literal: one compiled signature per kernel
@@ -114,9 +117,7 @@ def _exact_loop(
         if local:
             scan += 1  # list the crossings for the local regions
             loc[LOC_NCAND] = 0.0
-        th, who, kind, status = step_scan(
-            method, h, zero, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, scan, loc
-        )
+        th, who, kind, status = step_scan(method, h, zero, nact, vmax, scan, graph, work)
         if status != STATUS_OK:
             return status, t, nsteps, ntouch
         nsteps += 1
@@ -130,9 +131,8 @@ def _exact_loop(
             done = False
             if local:
                 status, nact2, ntouch, n, ncand, done = regions(
-                    h, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr,
-                    ctrl, loc, cnt,
-                )  # fmt: skip
+                    h, nact, ntouch, w, keys, ctrl, graph, work
+                )
                 nsteps += n
                 if status != STATUS_OK:
                     return status, t, nsteps, ntouch
@@ -145,62 +145,45 @@ def _exact_loop(
                     h_local = min(dt, 2.0 * h_local)
             if not done:
                 h, who, kind, n, status = to_crossing(
-                    th, who, kind, h, method, zero, zero, nact, IW, W, indptr, indices, kval,
-                    diag, oms, cfr, vmax, loc, cnt,
-                )  # fmt: skip
+                    th, who, kind, h, method, zero, zero, nact, vmax, graph, work
+                )
                 nsteps += n
                 if status != STATUS_OK:
                     return status, t, nsteps, ntouch
                 t += h
-                nact, ntouch = apply_crossing(
-                    who, kind, zero, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag,
-                    oms, cfr,
-                )  # fmt: skip
+                nact, ntouch = apply_crossing(who, kind, zero, nact, ntouch, w, keys, graph, work)
         if tracing:
-            record_trace(ev, t, scal, z, W, trace_nodes, trace_buf, cnt)
+            record_trace(ev, t, state, work, records)
         if t > ctrl[CTRL_MAX_DURATION] or nsteps > max_steps:
             return STATUS_EVENT_TOO_LONG, t, nsteps, ntouch
     return STATUS_OK, t, nsteps, ntouch
 
 
 @kernel
-def integrate_exact(
-    method, ev, nact, ntouch, w, keys, scal, z, W, IW, indptr, indices, kval, diag, oms, cfr,
-    ctrl, loc, trace_nodes, trace_buf, cnt,
-):  # fmt: skip
+def integrate_exact(method, ev, nact, ntouch, w, state, ctrl, graph, work, records):
     """Integrate the active blocks until every block has stopped, each crossing reached exactly."""
-    return _exact_loop(
-        method, no_regions, ev, nact, ntouch, w, keys, scal, z, W, IW, indptr, indices, kval,
-        diag, oms, cfr, ctrl, loc, trace_nodes, trace_buf, cnt,
-    )  # fmt: skip
+    return _exact_loop(method, no_regions, ev, nact, ntouch, w, state, ctrl, graph, work, records)
 
 
 @kernel
-def integrate_local(
-    method, ev, nact, ntouch, w, keys, scal, z, W, IW, indptr, indices, kval, diag, oms, cfr,
-    ctrl, loc, trace_nodes, trace_buf, cnt,
-):  # fmt: skip
+def integrate_local(method, ev, nact, ntouch, w, state, ctrl, graph, work, records):
     """As :func:`integrate_exact`, with the crossings of large events in local regions (DP5)."""
-    return _exact_loop(
-        method, local_step, ev, nact, ntouch, w, keys, scal, z, W, IW, indptr, indices, kval,
-        diag, oms, cfr, ctrl, loc, trace_nodes, trace_buf, cnt,
-    )  # fmt: skip
+    return _exact_loop(method, local_step, ev, nact, ntouch, w, state, ctrl, graph, work, records)
 
 
 @kernel
-def integrate_interpolated(
-    method, ev, nact, ntouch, w, keys, scal, z, W, IW, indptr, indices, kval, diag, oms, cfr,
-    ctrl, loc, trace_nodes, trace_buf, cnt,
-):  # fmt: skip
+def integrate_interpolated(method, ev, nact, ntouch, w, state, ctrl, graph, work, records):
     """Integrate the active blocks until every block has stopped, crossings on the dense output.
 
     Every full DP5 step is kept.  A step whose crossings overflow their list (``IW[CAND]``, one
     row: only in events spanning most of a small graph) is taken again at half the length, and
     the step grows back to dt by doubling.
     """
+    W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
+    keys = state.keys
     dt, vmax = ctrl[CTRL_DT], ctrl[CTRL_MAX_VELOCITY]
     max_steps = _max_steps(ctrl)
-    tracing = trace_nodes.shape[0] > 0
+    tracing = records.trace_nodes.shape[0] > 0
     t = 0.0
     nsteps = 0
     zero = nsteps - nsteps  # int64, not a literal: one compiled signature per kernel
@@ -208,9 +191,7 @@ def integrate_interpolated(
     h = dt
     while nact > 0:
         loc[LOC_NCAND] = 0.0
-        th, who, kind, status = step_scan(
-            method, h, zero, nact, IW, W, indptr, indices, kval, diag, oms, cfr, vmax, scan, loc
-        )
+        th, who, kind, status = step_scan(method, h, zero, nact, vmax, scan, graph, work)
         if status != STATUS_OK:
             return status, t, nsteps, ntouch
         nsteps += 1
@@ -223,14 +204,12 @@ def integrate_interpolated(
             restore_positions(zero, nact, W, IW)
             h = max(dt * MIN_STEP, 0.5 * h)
         else:
-            nact, ntouch, th_stop = interpolated_crossings(
-                h, nact, ntouch, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr, loc, cnt
-            )
+            nact, ntouch, th_stop = interpolated_crossings(h, nact, ntouch, w, keys, graph, work)
             # the event ends at its last stop, not at the end of the step
             t += h if nact > 0 or th_stop <= 0.0 else th_stop * h
             h = min(dt, 2.0 * h)
         if tracing:
-            record_trace(ev, t, scal, z, W, trace_nodes, trace_buf, cnt)
+            record_trace(ev, t, state, work, records)
         if t > ctrl[CTRL_MAX_DURATION] or nsteps > max_steps:
             return STATUS_EVENT_TOO_LONG, t, nsteps, ntouch
     return STATUS_OK, t, nsteps, ntouch

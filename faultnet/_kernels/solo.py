@@ -6,6 +6,9 @@ that depends only on its own stiffness, sigma and alpha.  The event loop
 (:func:`solo_slip`), then takes every later event of the class from the cache when
 :func:`solo_free` shows that no neighbour reaches the threshold during it
 (:func:`solo_apply`).
+
+``state``, ``graph``, ``work`` and ``records`` are the bundles of
+:mod:`faultnet._kernels.bundles`.
 """
 
 import numpy as np
@@ -49,10 +52,7 @@ _HELD = -1e300
 
 
 @inline_kernel
-def solo_slip(
-    integrate, method, i, ev, scal, z, keys, W, IW, indptr, indices, kval, diag, oms, cfr, ctrl,
-    loc, trace_nodes, trace_buf, cnt,
-):  # fmt: skip
+def solo_slip(integrate, method, i, ev, state, ctrl, graph, work, records):
     """Slip of block i alone: from rest at the threshold, every neighbour held.
 
     Integrated by the run's own ``integrate`` (:mod:`faultnet._kernels.slip`), with the
@@ -62,8 +62,9 @@ def solo_slip(
     it is computed once per parameter class and reused.  Leaves the work
     arrays as it found them.  Returns (slip, duration, steps, status).
     """
-    for p in range(indptr[i], indptr[i + 1]):
-        W[indices[p], F0] = _HELD
+    W, IW, cnt = work.W, work.IW, work.cnt
+    for p in range(graph.indptr[i], graph.indptr[i + 1]):
+        W[graph.indices[p], F0] = _HELD
     W[i, F0] = 1.0
     IW[ACT, 0] = i
     IW[APOS, i] = 0
@@ -71,7 +72,7 @@ def solo_slip(
     IW[TOUCH, 0] = i
     W[i, V] = 0.0
     W[i, VN] = 0.0
-    W[i, A] = accel(i, P, V, W, indptr, indices, kval, diag, oms, cfr)
+    W[i, A] = accel(i, P, V, W, graph)
     # work counters: a cached solo slip is set-up, not part of any event (so
     # a run's counters do not depend on how it was cut into calls)
     saved = (
@@ -82,10 +83,7 @@ def solo_slip(
         cnt[CNT_INTERPOLATED_CROSSINGS],
     )
     one = np.int64(1)  # not the literal 1: integrate keeps one compiled signature
-    status, t, n, _ = integrate(
-        method, ev, one, one, 0.0, keys, scal, z, W, IW, indptr, indices, kval, diag, oms, cfr,
-        ctrl, loc, trace_nodes, trace_buf, cnt,
-    )  # fmt: skip
+    status, t, n, _ = integrate(method, ev, one, one, 0.0, state, ctrl, graph, work, records)
     cnt[CNT_BLOCK_STEPS] = saved[0]
     cnt[CNT_PARTIAL_BLOCK_STEPS] = saved[1]
     cnt[CNT_RELOCATIONS] = saved[2]
@@ -102,12 +100,13 @@ def solo_slip(
 
 
 @kernel
-def solo_free(hyp, s1, w, keys, indptr, indices, kval):
+def solo_free(hyp, s1, w, keys, graph):
     """True when slipping s1 alone leaves every neighbour of hyp below threshold.
 
     The slip is monotone, so a neighbour's force is largest at the end:
     F_j = 1 + w - key_j + k_ij s1.
     """
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     for p in range(indptr[hyp], indptr[hyp + 1]):
         if 1.0 + w - keys[indices[p]] + kval[p] * s1 >= 1.0 - SOLO_MARGIN:
             return False
@@ -115,21 +114,20 @@ def solo_free(hyp, s1, w, keys, indptr, indices, kval):
 
 
 @kernel
-def solo_apply(
-    hyp, s1, ev, z, keys, tree, indptr, indices, kval, diag, slip_ev, slip_nd, slip_v, cnt
-):
+def solo_apply(hyp, s1, ev, state, graph, cnt, records):
     """Commit a free single-block slip: move the block, refresh its and its neighbours' keys."""
+    z, keys, tree = state.z, state.keys, state.tree
     z[hyp] += s1
-    keys[hyp] = block_key(hyp, z, indptr, indices, kval, diag)
+    keys[hyp] = block_key(hyp, z, graph)
     tree_update(hyp, keys, tree)
-    for p in range(indptr[hyp], indptr[hyp + 1]):
-        j = indices[p]
-        keys[j] = block_key(j, z, indptr, indices, kval, diag)
+    for p in range(graph.indptr[hyp], graph.indptr[hyp + 1]):
+        j = graph.indices[p]
+        keys[j] = block_key(j, z, graph)
         tree_update(j, keys, tree)
-    if slip_v.shape[0] > 0:
+    if records.slip_val.shape[0] > 0:
         row = cnt[CNT_SLIP_ROWS]
-        slip_ev[row] = ev
-        slip_nd[row] = hyp
-        slip_v[row] = s1
+        records.slip_event[row] = ev
+        records.slip_node[row] = hyp
+        records.slip_val[row] = s1
         cnt[CNT_SLIP_ROWS] = row + 1
     cnt[CNT_SOLO_EVENTS] += 1

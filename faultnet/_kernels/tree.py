@@ -19,12 +19,13 @@ __all__ = ["block_key", "build_keys_and_tree", "tree_update"]
 
 
 @kernel
-def block_key(i, z, indptr, indices, kval, diag):
-    """Plate position (re-centred frame) at which block ``i`` fails."""
+def block_key(i, z, graph):
+    """Plate position (re-centred frame) at which block ``i`` fails (``graph``: Graph)."""
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += kval[p] * z[indices[p]]
-    return 1.0 + diag[i] * z[i] - s
+    return 1.0 + graph.diag[i] * z[i] - s
 
 
 @kernel
@@ -39,12 +40,17 @@ def _winner(a, b, keys):
 
 
 @entry
-def build_keys_and_tree(z, indptr, indices, kval, diag, keys, tree):
-    """Recompute every key from ``z`` and rebuild the tree (O(N))."""
+def build_keys_and_tree(state, graph):
+    """Recompute every key from ``z`` and rebuild the tree (O(N)).
+
+    ``state``, ``graph``: :class:`~faultnet._kernels.bundles.State` (its ``keys`` and
+    ``tree`` are written) and ``Graph``.
+    """
+    z, keys, tree = state.z, state.keys, state.tree
     n = z.shape[0]
     leaves = tree.shape[0] // 2
     for i in range(n):
-        keys[i] = block_key(i, z, indptr, indices, kval, diag)
+        keys[i] = block_key(i, z, graph)
     for i in range(leaves):
         tree[leaves + i] = i if i < n else -1
     for p in range(leaves - 1, 0, -1):
