@@ -157,6 +157,7 @@ def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, gr
     """
     W, IW, loc = work.W, work.IW, work.loc
     indptr, indices = graph.indptr, graph.indices
+    method = method + (q - q)  # int64, not the caller's literal: one signature of the roots
     v1 = W[i, VN]
     if not (v1 < vmax):
         return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
