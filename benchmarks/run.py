@@ -134,21 +134,25 @@ def measure(wid, alpha, transient_t, events, tile_from=0):
     print(json.dumps(out))
 
 
-def compile_times(helper="1"):
-    """Seconds for the first simulate call: cold (empty cache) and warm cache; and the import.
+#: the first-run graphs of the compile measurement: a ring (exact crossings) and a periodic
+#: lattice (interpolated crossings) each compile their own entry kernel
+COMPILE_GRAPHS = {
+    "ring": "faultnet.graphs.ring(10)",
+    "lattice": "faultnet.graphs.square_lattice(20, 20, periodic=True)",
+}
 
-    ``helper="0"`` turns off the second process that compiles alongside a cold first call
-    (``faultnet._compile_helper``), to measure the one-core compile.
-    """
+
+def compile_times(graph):
+    """Seconds for the first simulate call, cold (empty cache) and warm; and the import."""
     code = (
         "import time, faultnet; t=time.perf_counter();"
-        "m=faultnet.CarlsonLanger(faultnet.graphs.ring(10));"
+        f"m=faultnet.CarlsonLanger({COMPILE_GRAPHS[graph]});"
         "faultnet.simulate(m, 1, rng=1, progress=False);"
         "print(time.perf_counter()-t)"
     )
     imp = "import time; t=time.perf_counter(); import faultnet; print(time.perf_counter()-t)"
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache, FAULTNET_COMPILE_HELPER=helper)
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
         cold = float(subprocess.check_output([sys.executable, "-c", code], env=env))
         warm = float(subprocess.check_output([sys.executable, "-c", code], env=env))
         import_s = float(subprocess.check_output([sys.executable, "-c", imp], env=env))
@@ -156,12 +160,12 @@ def compile_times(helper="1"):
 
 
 def _compile_rounds(rounds):
-    """Print compile times, alternating the two-process and the one-process cold compile."""
+    """Print compile times of a first run on a ring and on a lattice, alternating."""
     for r in range(rounds):
-        for helper, how in (("1", "with the compile helper"), ("0", "one process")):
-            cold, warm, import_s = compile_times(helper)
+        for graph in COMPILE_GRAPHS:
+            cold, warm, import_s = compile_times(graph)
             print(
-                f"round {r + 1}, {how:23}: import faultnet {import_s:.2f} s; first simulate "
+                f"round {r + 1}, {graph:7}: import faultnet {import_s:.2f} s; first simulate "
                 f"{cold:.1f} s cold cache, {warm:.2f} s warm cache",
                 flush=True,
             )
@@ -209,7 +213,7 @@ def main(argv=None):
         "--compile-only",
         type=int,
         metavar="R",
-        help="only the compile times: R rounds, each with and without the compile helper",
+        help="only the compile times: R rounds, each on a ring and on a lattice",
     )
     ap.add_argument("--scaling", action="store_true", help="periodic square L=32..1024 at alpha=1")
     ap.add_argument("--scaling-only", action="store_true", help="the scaling series alone")
