@@ -174,7 +174,7 @@ def test_scheme_is_a_compile_time_literal():
     @nb.njit
     def scan_with(method, W, IW, ivec, fvec):
         graph = Graph(ivec, ivec, fvec, fvec, fvec, fvec)
-        return step_scan(method, 0.1, 0, 0, 1.0, 1, graph, Work(W, IW, fvec, ivec))
+        return step_scan(method, 0.1, 0, 0, 1.0, 1, graph, Work(W, IW, fvec, ivec, W))
 
     W, IW = np.zeros((2, 24)), np.zeros((12, 2), dtype=np.int64)
     ivec, fvec = np.zeros(3, dtype=np.int64), np.zeros(6)

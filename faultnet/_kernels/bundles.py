@@ -38,13 +38,15 @@ State = namedtuple("State", ["z", "scal", "keys", "tree"])
 
 #: The event's work space and the counters of the current call.
 #:
-#: - ``W`` (float64[N, N_WORK_DOPRI]): float work, block-major, columns named in
-#:   :mod:`faultnet._kernels.integrate` and :mod:`faultnet._kernels.tableau`;
+#: - ``W`` (float64[N, N_WORK]): float work, block-major, columns named in
+#:   :mod:`faultnet._kernels.integrate`;
 #: - ``IW`` (int64[N_IWORK, N]): int work, rows named in :mod:`faultnet._kernels.integrate`;
 #: - ``loc`` (float64[LOC_SIZE]): the local-region context of a step
 #:   (:mod:`faultnet._kernels.context`);
-#: - ``cnt`` (int64[CNT_SIZE]): counters (``layout.CNT_*``).
-Work = namedtuple("Work", ["W", "IW", "loc", "cnt"])
+#: - ``cnt`` (int64[CNT_SIZE]): counters (``layout.CNT_*``);
+#: - ``K`` (float64[N, N_STAGE]): the DP5 stage derivatives, row q for the block at active
+#:   position q, columns named in :mod:`faultnet._kernels.tableau` (also scratch for landings).
+Work = namedtuple("Work", ["W", "IW", "loc", "cnt", "K"])
 
 #: What a call records.  Buffers of length 0 record nothing.
 #:

@@ -61,14 +61,17 @@ LANDED = 3
 
 
 @kernel
-def stick_theta(method, h, q, i, W):
-    """Where inside the step block i (active position q) stops; 2.0 if it does not."""
+def stick_theta(method, h, q, i, W, K):
+    """Where inside the step block i (active position q) stops; 2.0 if it does not.
+
+    ``W``: the work array; ``K``: the stage derivatives (``work.K``).
+    """
     v0 = W[i, V]
     v1 = W[i, VN]
     if v1 <= 0.0:
         if v0 > 0.0:
             if method == 1:
-                c0, c1, c2, c3, c4 = slot_dense(v0, v1, h, W, q, KA, W[i, AN])
+                c0, c1, c2, c3, c4 = slot_dense(v0, v1, h, K, q, KA, W[i, AN])
                 return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
             return hermite_root(0.0, 1.0, v0, h * W[i, A], v1, h * W[i, AN])
         # joined at rest and stops again within the step
@@ -87,7 +90,7 @@ def join_theta(method, h, q0, j, f0, f1, graph, work):
     integrated with the region's steps).  ``graph``, ``work``:
     :class:`~faultnet._kernels.bundles.Graph` and ``Work``.
     """
-    W, IW = work.W, work.IW
+    W, IW, K = work.W, work.IW, work.K
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     if method == 1:
         g1 = g3 = g4 = g5 = g6 = g7 = 0.0
@@ -98,11 +101,11 @@ def join_theta(method, h, q0, j, f0, f1, graph, work):
                 q = IW[APOS, b]
                 if q < q0:
                     return 0.0
-                g1 += c * W[q, KV]
-                g3 += c * W[q, KV + 2]
-                g4 += c * W[q, KV + 3]
-                g5 += c * W[q, KV + 4]
-                g6 += c * W[q, KV + 5]
+                g1 += c * K[q, KV]
+                g3 += c * K[q, KV + 2]
+                g4 += c * K[q, KV + 3]
+                g5 += c * K[q, KV + 4]
+                g6 += c * K[q, KV + 5]
                 g7 += c * W[b, VN]
         c0, c1, c2, c3, c4 = dense_coeffs(
             f0 - 1.0, f1 - 1.0, h * g1, h * g3, h * g4, h * g5, h * g6, h * g7
@@ -162,7 +165,7 @@ def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, gr
     if not (v1 < vmax):
         return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
     if v1 <= 0.0 or (W[i, A] < 0.0 and W[i, AN] > 0.0):  # else stick_theta gives 2.0
-        th = stick_theta(method, h, q, i, W)
+        th = stick_theta(method, h, q, i, W, work.K)
         if th < best:
             best, who, kind = th, i, STICK
         if listing and th <= 1.0:

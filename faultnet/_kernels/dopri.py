@@ -4,7 +4,8 @@ Same contract as :func:`faultnet._kernels.integrate.rk4_step`: from the
 committed state (D, V, A) of the active blocks to (DN, VN, AN), leaving
 ``P == P2 == DN`` on active blocks and D, V, A untouched.  Stage derivatives
 live in the columns ``KV + s`` (velocities) and ``KA + s`` (accelerations) of
-W, in the row of the block's position in the active list (``W[q, KV + s]``).
+the stage array ``work.K``, in the row of the block's position in the active
+list (``K[q, KV + s]``).
 
 For the same accuracy this fifth-order scheme takes steps about five times
 longer than RK4 with 6 instead of 4 force evaluations per step (the seventh,
@@ -47,7 +48,7 @@ from faultnet._kernels.tableau import (
     _B6,
     KA,
     KV,
-    N_WORK_DOPRI,
+    N_STAGE,
     dense_coeffs,
     slot_dense,
 )
@@ -55,7 +56,7 @@ from faultnet._kernels.tableau import (
 __all__ = [
     "KA",
     "KV",
-    "N_WORK_DOPRI",
+    "N_STAGE",
     "boundary_at",
     "boundary_coeffs",
     "boundary_positions",
@@ -73,17 +74,17 @@ def _cache_slot(r, loc):
 
 
 @inline_kernel
-def boundary_coeffs(b, W, IW, loc):
+def boundary_coeffs(b, W, K, IW, loc):
     """Dense-output coefficients of boundary block b over the outer step (its outer slot).
 
     The position at fraction th of the outer step (length ``loc[LOC_OUTER_H]``) is
     ``c0 + th (c1 + th (c2 + th (c3 + th c4)))``.
     """
-    return slot_dense(W[b, D], W[b, DN], loc[LOC_OUTER_H], W, IW[APOS, b], KV, W[b, VN])
+    return slot_dense(W[b, D], W[b, DN], loc[LOC_OUTER_H], K, IW[APOS, b], KV, W[b, VN])
 
 
 @kernel
-def cache_boundary(r, b, W, IW, loc):
+def cache_boundary(r, b, W, K, IW, loc):
     """Keep the dense-output coefficients of boundary block b (entry r) in ``loc``.
 
     The boundary follows the outer step at every stage of every step of its
@@ -91,11 +92,11 @@ def cache_boundary(r, b, W, IW, loc):
     """
     o = _cache_slot(r, loc)
     if o >= 0:
-        loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4] = boundary_coeffs(b, W, IW, loc)
+        loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4] = boundary_coeffs(b, W, K, IW, loc)
 
 
 @kernel
-def boundary_positions(col, th, W, IW, loc):
+def boundary_positions(col, th, W, K, IW, loc):
     """Write the boundary blocks' positions at fraction ``th`` of the outer step to ``col``.
 
     The boundary of a local region (``IW[BND, loc[LOC_BND_START]:loc[LOC_BND_END]]``) are
@@ -109,16 +110,16 @@ def boundary_positions(col, th, W, IW, loc):
         if o >= 0:
             c0, c1, c2, c3, c4 = loc[o], loc[o + 1], loc[o + 2], loc[o + 3], loc[o + 4]
         else:
-            c0, c1, c2, c3, c4 = boundary_coeffs(b, W, IW, loc)
+            c0, c1, c2, c3, c4 = boundary_coeffs(b, W, K, IW, loc)
         W[b, col] = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
 
 
 @kernel
-def boundary_at(th, W, IW, loc):
+def boundary_at(th, W, K, IW, loc):
     """The boundary blocks at fraction ``th`` of the outer step, in both stage columns P and P2."""
     col = int(loc[LOC_BND_START] - loc[LOC_BND_START]) + P
-    boundary_positions(col, th, W, IW, loc)
-    boundary_positions(col + (P2 - P), th, W, IW, loc)
+    boundary_positions(col, th, W, K, IW, loc)
+    boundary_positions(col + (P2 - P), th, W, K, IW, loc)
 
 
 @inline_kernel
@@ -151,6 +152,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     once here; the stage passes inline :func:`_acc` and the scan.
     """
     W, IW, loc = work.W, work.IW, work.loc
+    K = work.K
     bnd = loc[LOC_BND_END] > loc[LOC_BND_START]
     th0 = loc[LOC_REGION_T]
     # runtime column numbers: one compiled signature of boundary_positions
@@ -161,74 +163,74 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         i = IW[ACT, q]
         v = W[i, V]
         a = W[i, A]
-        W[q, KV] = v
-        W[q, KA] = a
+        K[q, KV] = v
+        K[q, KA] = a
         W[i, P] = W[i, D] + h * _A21 * v
-        W[q, KV + 1] = v + h * _A21 * a
+        K[q, KV + 1] = v + h * _A21 * a
     if bnd:
-        boundary_positions(cp, th0 + 0.2 * hr, W, IW, loc)
+        boundary_positions(cp, th0 + 0.2 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
-        v2 = W[q, KV + 1]
+        v2 = K[q, KV + 1]
         a2 = _acc(i, P, v2, W, graph)
-        W[q, KA + 1] = a2
-        W[i, P2] = W[i, D] + h * (_A31 * W[q, KV] + _A32 * v2)
-        W[q, KV + 2] = W[i, V] + h * (_A31 * W[q, KA] + _A32 * a2)
+        K[q, KA + 1] = a2
+        W[i, P2] = W[i, D] + h * (_A31 * K[q, KV] + _A32 * v2)
+        K[q, KV + 2] = W[i, V] + h * (_A31 * K[q, KA] + _A32 * a2)
     if bnd:
-        boundary_positions(cp2, th0 + 0.3 * hr, W, IW, loc)
+        boundary_positions(cp2, th0 + 0.3 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
-        v3 = W[q, KV + 2]
+        v3 = K[q, KV + 2]
         a3 = _acc(i, P2, v3, W, graph)
-        W[q, KA + 2] = a3
-        W[i, P] = W[i, D] + h * (_A41 * W[q, KV] + _A42 * W[q, KV + 1] + _A43 * v3)
-        W[q, KV + 3] = W[i, V] + h * (_A41 * W[q, KA] + _A42 * W[q, KA + 1] + _A43 * a3)
+        K[q, KA + 2] = a3
+        W[i, P] = W[i, D] + h * (_A41 * K[q, KV] + _A42 * K[q, KV + 1] + _A43 * v3)
+        K[q, KV + 3] = W[i, V] + h * (_A41 * K[q, KA] + _A42 * K[q, KA + 1] + _A43 * a3)
     if bnd:
-        boundary_positions(cp, th0 + 0.8 * hr, W, IW, loc)
+        boundary_positions(cp, th0 + 0.8 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
-        v4 = W[q, KV + 3]
+        v4 = K[q, KV + 3]
         a4 = _acc(i, P, v4, W, graph)
-        W[q, KA + 3] = a4
-        dp = _A51 * W[q, KV] + _A52 * W[q, KV + 1] + _A53 * W[q, KV + 2] + _A54 * v4
-        dv = _A51 * W[q, KA] + _A52 * W[q, KA + 1] + _A53 * W[q, KA + 2] + _A54 * a4
+        K[q, KA + 3] = a4
+        dp = _A51 * K[q, KV] + _A52 * K[q, KV + 1] + _A53 * K[q, KV + 2] + _A54 * v4
+        dv = _A51 * K[q, KA] + _A52 * K[q, KA + 1] + _A53 * K[q, KA + 2] + _A54 * a4
         W[i, P2] = W[i, D] + h * dp
-        W[q, KV + 4] = W[i, V] + h * dv
+        K[q, KV + 4] = W[i, V] + h * dv
     if bnd:
-        boundary_positions(cp2, th0 + 8.0 / 9.0 * hr, W, IW, loc)
+        boundary_positions(cp2, th0 + 8.0 / 9.0 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
-        v5 = W[q, KV + 4]
+        v5 = K[q, KV + 4]
         a5 = _acc(i, P2, v5, W, graph)
-        W[q, KA + 4] = a5
+        K[q, KA + 4] = a5
         dp = (
-            _A61 * W[q, KV]
-            + _A62 * W[q, KV + 1]
-            + _A63 * W[q, KV + 2]
-            + _A64 * W[q, KV + 3]
+            _A61 * K[q, KV]
+            + _A62 * K[q, KV + 1]
+            + _A63 * K[q, KV + 2]
+            + _A64 * K[q, KV + 3]
             + _A65 * v5
         )
         dv = (
-            _A61 * W[q, KA]
-            + _A62 * W[q, KA + 1]
-            + _A63 * W[q, KA + 2]
-            + _A64 * W[q, KA + 3]
+            _A61 * K[q, KA]
+            + _A62 * K[q, KA + 1]
+            + _A63 * K[q, KA + 2]
+            + _A64 * K[q, KA + 3]
             + _A65 * a5
         )
         W[i, P] = W[i, D] + h * dp
-        W[q, KV + 5] = W[i, V] + h * dv
+        K[q, KV + 5] = W[i, V] + h * dv
     if bnd:
-        boundary_positions(cp, th0 + 1.0 * hr, W, IW, loc)
+        boundary_positions(cp, th0 + 1.0 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
-        v6 = W[q, KV + 5]
+        v6 = K[q, KV + 5]
         a6 = _acc(i, P, v6, W, graph)
-        W[q, KA + 5] = a6
+        K[q, KA + 5] = a6
         dp = (
-            _B1 * W[q, KV] + _B3 * W[q, KV + 2] + _B4 * W[q, KV + 3] + _B5 * W[q, KV + 4] + _B6 * v6
+            _B1 * K[q, KV] + _B3 * K[q, KV + 2] + _B4 * K[q, KV + 3] + _B5 * K[q, KV + 4] + _B6 * v6
         )
         dv = (
-            _B1 * W[q, KA] + _B3 * W[q, KA + 2] + _B4 * W[q, KA + 3] + _B5 * W[q, KA + 4] + _B6 * a6
+            _B1 * K[q, KA] + _B3 * K[q, KA + 2] + _B4 * K[q, KA + 3] + _B5 * K[q, KA + 4] + _B6 * a6
         )
         dn = W[i, D] + h * dp
         W[i, DN] = dn
@@ -238,7 +240,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
     kind = np.int64(0)
     if bnd:
-        boundary_positions(cp2, th0 + 1.0 * hr, W, IW, loc)
+        boundary_positions(cp2, th0 + 1.0 * hr, W, K, IW, loc)
     listing = scan == 2
     for q in range(q0, nact):
         i = IW[ACT, q]

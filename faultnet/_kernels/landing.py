@@ -29,8 +29,8 @@ accelerations at the region step's ends are that quartic's derivatives
 the region's accelerations are recomputed.
 
 Scratch columns (free outside a step), by slot q of the active list:
-``W[q, KV]``, ``W[q, KV + 1]`` the jerks at the start and the end of the
-step, ``W[q, KV + 3]``, ``W[q, KV + 4]`` the snaps, ``W[q, KV + 2]`` the
+``K[q, KV]``, ``K[q, KV + 1]`` the jerks at the start and the end of the
+step, ``K[q, KV + 3]``, ``K[q, KV + 4]`` the snaps, ``K[q, KV + 2]`` the
 landed velocity.
 
 ``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
@@ -136,14 +136,14 @@ def _quartic_rates(th, hh, c1, c2, c3, c4):
 
 
 @inline_kernel
-def _boundary_motion(b, th0, th1, W, IW, loc):
+def _boundary_motion(b, th0, th1, W, K, IW, loc):
     """Velocity and acceleration of a local region's boundary block b at outer fractions th0, th1.
 
     The boundary follows the outer step's dense output (a quartic in the
     fraction of the outer step, length ``loc[LOC_OUTER_H]``), so these are its
     derivatives, consistent with the positions the region's steps used.
     """
-    c0, c1, c2, c3, c4 = boundary_coeffs(b, W, IW, loc)
+    c0, c1, c2, c3, c4 = boundary_coeffs(b, W, K, IW, loc)
     v0, a0 = _quartic_rates(th0, loc[LOC_OUTER_H], c1, c2, c3, c4)
     v1, a1 = _quartic_rates(th1, loc[LOC_OUTER_H], c1, c2, c3, c4)
     return v0, a0, v1, a1
@@ -170,6 +170,7 @@ def _derivs(i, qb, th0, th1, graph, work):
     move on the outer step's dense output, between its fractions th0 and th1.
     """
     W, IW, loc = work.W, work.IW, work.loc
+    K = work.K
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     sv0 = sa0 = sv1 = sa1 = 0.0
     for p in range(indptr[i], indptr[i + 1]):
@@ -177,7 +178,7 @@ def _derivs(i, qb, th0, th1, graph, work):
         if IW[FLAG, b] == ACTIVE:
             c = kval[p]
             if IW[APOS, b] < qb:
-                v0, a0, v1, a1 = _boundary_motion(b, th0, th1, W, IW, loc)
+                v0, a0, v1, a1 = _boundary_motion(b, th0, th1, W, K, IW, loc)
             else:
                 v0, a0, v1, a1 = W[b, V], W[b, A], W[b, VN], W[b, AN]
             sv0 += c * v0
@@ -200,6 +201,7 @@ def _join_theta(th, who, h, q0, graph, work):
     boundary leaves the region: the scan returns theta 0, never landed here).
     """
     W, IW = work.W, work.IW
+    K = work.K
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     h2 = h * h
     h3 = h2 * h
@@ -215,8 +217,8 @@ def _join_theta(th, who, h, q0, graph, work):
             g1 += c * W[b, VN]
             a0 += c * W[b, A]
             a1 += c * W[b, AN]
-            j0 += c * W[q, _J0]
-            j1 += c * W[q, _J1]
+            j0 += c * K[q, _J0]
+            j1 += c * K[q, _J1]
     c0, c1, c2, c3, c4, c5, c6, c7 = septic_coeffs(
         force(who, D, W, graph) - 1.0,
         h * g0,
@@ -239,29 +241,30 @@ def _place(t, who, h, q0, nact, graph, work):
     threshold.  Inside a local region its boundary is placed at ``t`` too.
     """
     W, IW, loc = work.W, work.IW, work.loc
+    K = work.K
     h2 = h * h
     h3 = h2 * h
     for q in range(q0, nact):
         i = IW[ACT, q]
-        j0 = W[q, _J0]
-        j1 = W[q, _J1]
+        j0 = K[q, _J0]
+        j1 = K[q, _J1]
         c0, c1, c2, c3, c4, c5, c6, c7 = septic_coeffs(
             W[i, D], h * W[i, V], h2 * W[i, A], h3 * j0,
             W[i, DN], h * W[i, VN], h2 * W[i, AN], h3 * j1,
         )  # fmt: skip
         x = _eval7(t, c0, c1, c2, c3, c4, c5, c6, c7)
         c0, c1, c2, c3, c4, c5, c6, c7 = septic_coeffs(
-            W[i, V], h * W[i, A], h2 * j0, h3 * W[q, _S0],
-            W[i, VN], h * W[i, AN], h2 * j1, h3 * W[q, _S1],
+            W[i, V], h * W[i, A], h2 * j0, h3 * K[q, _S0],
+            W[i, VN], h * W[i, AN], h2 * j1, h3 * K[q, _S1],
         )  # fmt: skip
         v = _eval7(t, c0, c1, c2, c3, c4, c5, c6, c7)
         W[i, P] = x
         W[i, P2] = x
         if v < 0.0:
             return False
-        W[q, _VL] = v
+        K[q, _VL] = v
     if q0 > 0:
-        boundary_at(loc[LOC_REGION_T] + t * h / loc[LOC_OUTER_H], W, IW, loc)
+        boundary_at(loc[LOC_REGION_T] + t * h / loc[LOC_OUTER_H], W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         for p in range(graph.indptr[i], graph.indptr[i + 1]):
@@ -287,13 +290,14 @@ def land(th, who, h, q0, qb, nact, graph, work):
     are rewritten by the next step.
     """
     W, IW, loc = work.W, work.IW, work.loc
+    K = work.K
     th0 = th1 = 0.0
     if qb > 0:
         th0 = loc[LOC_REGION_T]
         th1 = th0 + h / loc[LOC_OUTER_H]
     for q in range(q0, nact):
         i = IW[ACT, q]
-        W[q, _J0], W[q, _S0], W[q, _J1], W[q, _S1] = _derivs(i, qb, th0, th1, graph, work)
+        K[q, _J0], K[q, _S0], K[q, _J1], K[q, _S1] = _derivs(i, qb, th0, th1, graph, work)
     t = _join_theta(th, who, h, q0, graph, work)
     if t < 0.0:
         return -1.0
@@ -304,7 +308,7 @@ def land(th, who, h, q0, qb, nact, graph, work):
         x = W[i, P]
         W[i, D] = x
         W[i, DN] = x
-        v = W[q, _VL]
+        v = K[q, _VL]
         W[i, V] = v
         W[i, VN] = v
     for q in range(q0, nact):

@@ -187,6 +187,7 @@ def _collect(hh, nact, mark, graph, work):
     more than ``IW[CAND]`` holds.
     """
     W, IW, loc = work.W, work.IW, work.loc
+    K = work.K
     indptr, indices = graph.indptr, graph.indices
     n = 0
     zero = n - n  # int64, not a literal: the scan's signature of join_theta
@@ -194,7 +195,7 @@ def _collect(hh, nact, mark, graph, work):
         i = IW[ACT, q]
         if W[i, VN] <= 0.0 or W[i, A] < 0.0:
             # the literal method as in the DP5 step's scan: one compiled signature
-            th = stick_theta(1, hh, q, i, W)
+            th = stick_theta(1, hh, q, i, W, K)
             if th <= 1.0:
                 candidate(n, i, th if W[i, V] > 0.0 and W[i, VN] <= 0.0 else 2.0, IW, loc)
                 n += 1
@@ -274,6 +275,7 @@ def _grow(c, cur, q0, step_id, mark, graph, work):
 def _border(m, cur, base, work):
     """Add slipping block m (outside the region) to the boundary; False on a conflict."""
     W, IW, loc = work.W, work.IW, work.loc
+    K = work.K
     reg = IW[REGION, m]
     if reg == cur or reg == -cur:
         return True
@@ -285,7 +287,7 @@ def _border(m, cur, base, work):
     IW[REGION, m] = -cur
     IW[BND, nb_] = m
     loc[LOC_BND_END] = nb_ + 1
-    cache_boundary(nb_, m, W, IW, loc)
+    cache_boundary(nb_, m, W, K, IW, loc)
     return True
 
 
@@ -372,6 +374,7 @@ def _sub_run(
     caller falls back), else -1.
     """
     W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
+    K = work.K
     indptr, indices = graph.indptr, graph.indices
     vmax = ctrl[CTRL_MAX_VELOCITY]
     tau = 0.0
@@ -404,7 +407,7 @@ def _sub_run(
             return STATUS_OK, nact, ntouch, n, who
         tau += hs
         loc[LOC_REGION_T] = tau / hh
-        boundary_at(loc[LOC_REGION_T], W, IW, loc)
+        boundary_at(loc[LOC_REGION_T], W, K, IW, loc)
         if not _claim_neighbours(q0, nact, cur, base, step_id, graph, work):
             return STATUS_OK, nact, ntouch, n, who
         nact, ntouch = apply_crossing(who, kind, q0, nact, ntouch, w, keys, graph, work)
@@ -428,7 +431,8 @@ def _quiet(cur, s0, graph, work):
     (the boundary at its end position, column P2).
     """
     W, IW, loc = work.W, work.IW, work.loc
-    boundary_at(1.0, W, IW, loc)
+    K = work.K
+    boundary_at(1.0, W, K, IW, loc)
     for r in range(s0, int(loc[LOC_NSAVED])):
         j = IW[SLIST, r]
         if IW[FLAG, j] != ACTIVE and IW[REGION, j] == cur:

@@ -243,6 +243,7 @@ def _polish(h, hmax, who, kind, method, q0, nact, graph, work):
     step length and the number of full step evaluations it took.
     """
     W, IW, loc = work.W, work.IW, work.loc
+    K = work.K
     n = 0
     for _ in range(6):
         g, dg = _residual(who, kind, W, graph)
@@ -255,7 +256,7 @@ def _polish(h, hmax, who, kind, method, q0, nact, graph, work):
         if abs(dh) <= _TAYLOR_MAX * hmax:
             if loc[LOC_BND_END] > loc[LOC_BND_START]:
                 th = loc[LOC_REGION_T] + hn / loc[LOC_OUTER_H]
-                boundary_at(th, W, IW, loc)
+                boundary_at(th, W, K, IW, loc)
             _taylor_shift(dh, q0, nact, graph, work)
         else:
             step(method, hn, q0, nact, graph, work)

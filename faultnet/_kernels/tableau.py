@@ -5,14 +5,16 @@ The tableau is written out as named constants so each stage pass of
 coefficients (20% faster than loops over a coefficient array).
 """
 
-from faultnet._kernels.integrate import N_WORK
 from faultnet._kernels.jit import inline_kernel
 
-__all__ = ["KA", "KV", "N_WORK_DOPRI", "dense_coeffs", "slot_dense"]
+__all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense"]
 
-KV = N_WORK  # 6 columns of stage velocities
-KA = N_WORK + 6  # 6 columns of stage accelerations
-N_WORK_DOPRI = N_WORK + 12
+# The stage derivatives of the block at active position q are row q of the stage array
+# ``work.K`` (float64[N, N_STAGE]), apart from the blocks' own work ``W``: a block's row of W
+# then fits in 96 bytes, which counts on graphs that do not fit in the cache.
+KV = 0  # 6 columns of stage velocities
+KA = 6  # 6 columns of stage accelerations
+N_STAGE = 12
 
 # Butcher tableau (Dormand & Prince 1980)
 _A21 = 1 / 5
@@ -48,8 +50,8 @@ def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
 
 
 @inline_kernel
-def slot_dense(y0, y1, h, W, q, col, end):
-    """:func:`dense_coeffs` of a block whose stage derivatives are in slot q, columns col + s.
+def slot_dense(y0, y1, h, K, q, col, end):
+    """:func:`dense_coeffs` of a block whose stage derivatives are in row q of K, columns col + s.
 
     ``col`` is KV (positions: derivatives are the stage velocities) or KA
     (velocities); ``end`` is the derivative at the end of the step.
@@ -57,10 +59,10 @@ def slot_dense(y0, y1, h, W, q, col, end):
     return dense_coeffs(
         y0,
         y1,
-        h * W[q, col],
-        h * W[q, col + 2],
-        h * W[q, col + 3],
-        h * W[q, col + 4],
-        h * W[q, col + 5],
+        h * K[q, col],
+        h * K[q, col + 2],
+        h * K[q, col + 3],
+        h * K[q, col + 4],
+        h * K[q, col + 5],
         h * end,
     )
