@@ -185,8 +185,8 @@ class KernelArrays:
         self.tree = K.empty_tree(n)
         self.options = options
         # block-major work space: one block's rows share cache lines
-        self.W = np.zeros((n, K.N_WORK), dtype=np.float64)
-        self.K = np.zeros((n, K.N_STAGE), dtype=np.float64)  # DP5 stages by active position
+        # rows N.. hold the DP5 stage derivatives by active position (tableau.stage_rows)
+        self.W = np.zeros((2 * n, K.N_WORK), dtype=np.float64)
         self.IW = np.zeros((K.N_IWORK, n), dtype=np.int64)
         self.ctrl = np.zeros(CTRL_SIZE, dtype=np.float64)
         self.ctrl[CTRL_MAX_DURATION] = options.max_event_duration
@@ -197,7 +197,7 @@ class KernelArrays:
         self.loc = np.zeros(K.LOC_SIZE, dtype=np.float64)
         self.out = np.zeros(OUT_SIZE, dtype=np.float64)
         self.kstate = KernelState(self.z, self.scal, self.keys, self.tree)
-        self.work = Work(self.W, self.IW, self.loc, self.cnt, self.K)
+        self.work = Work(self.W, self.IW, self.loc, self.cnt)
         self.record_slips = bool(record_slips)
         self.slip_cap = max(4 * n, 1 << 16) if record_slips else 0
         self._slip_buffers(self.slip_cap)

@@ -46,7 +46,7 @@ from faultnet._kernels.integrate import (
     V,
 )
 from faultnet._kernels.layout import CNT_SIZE
-from faultnet._kernels.tableau import KA, KV, N_STAGE
+from faultnet._kernels.tableau import KA, KV
 
 _C = [0, Fr(1, 5), Fr(3, 10), Fr(4, 5), Fr(8, 9), 1]
 _A = [
@@ -63,8 +63,7 @@ _B = [Fr(35, 384), 0, Fr(500, 1113), Fr(125, 192), Fr(-2187, 6784), Fr(11, 84)]
 @nb.njit(cache=False)
 def _step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc):
     graph = Graph(indptr, indices, kval, diag, oms, cfr)
-    # W holds the block columns and, after them, the stage array K (two views)
-    work = Work(W[:, :N_WORK], IW, loc, np.zeros(CNT_SIZE, dtype=np.int64), W[:, N_WORK:])
+    work = Work(W, IW, loc, np.zeros(CNT_SIZE, dtype=np.int64))
     return dopri_step(h, q0, nact, 0, 1e6, graph, work)
 
 
@@ -117,13 +116,13 @@ def test_step_matches_a_dense_reference(region, seed):
         ring = sorted({int(j) for i in blocks for j in g[i]} - set(blocks.tolist()))
         for b in ring[:4]:
             boundary[b] = rng.normal(0.0, 1e-3, 5)
-    W = np.zeros((n, N_WORK + N_STAGE))
+    W = np.zeros((2 * n, N_WORK))  # the stage rows below the blocks'
     IW = np.zeros((N_IWORK, n), dtype=np.int64)
     loc = np.zeros(LOC_SIZE)
     x = rng.normal(0.0, 1e-2, n)
     F0s = rng.uniform(0.5, 1.0, n)
-    W[:, D] = W[:, P] = W[:, P2] = x
-    W[:, F0] = F0s
+    W[:n, D] = W[:n, P] = W[:n, P2] = x
+    W[:n, F0] = F0s
     IW[FLAG, others] = STUCK
     q0 = len(boundary) + 3 if region else 0  # the outer list's slots come first
     for r, b in enumerate(boundary):
@@ -155,8 +154,8 @@ def test_step_matches_a_dense_reference(region, seed):
     np.testing.assert_allclose(W[blocks, VN], v1, rtol=0, atol=1e-13)
     np.testing.assert_allclose(W[blocks, AN], a1, rtol=0, atol=1e-12)
     for s in range(6):
-        np.testing.assert_allclose(W[q0:nact, N_WORK + KV + s], kv[s], rtol=0, atol=1e-13)
-        np.testing.assert_allclose(W[q0:nact, N_WORK + KA + s], ka[s], rtol=0, atol=1e-12)
+        np.testing.assert_allclose(W[n + q0 : n + nact, KV + s], kv[s], rtol=0, atol=1e-13)
+        np.testing.assert_allclose(W[n + q0 : n + nact, KA + s], ka[s], rtol=0, atol=1e-12)
     # the contract: P == P2 == DN on the stepped blocks; stuck blocks untouched
     np.testing.assert_array_equal(W[blocks, P], W[blocks, DN])
     np.testing.assert_array_equal(W[blocks, P2], W[blocks, DN])

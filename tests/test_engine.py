@@ -174,9 +174,9 @@ def test_scheme_is_a_compile_time_literal():
     @nb.njit
     def scan_with(method, W, IW, ivec, fvec):
         graph = Graph(ivec, ivec, fvec, fvec, fvec, fvec)
-        return step_scan(method, 0.1, 0, 0, 1.0, 1, graph, Work(W, IW, fvec, ivec, W))
+        return step_scan(method, 0.1, 0, 0, 1.0, 1, graph, Work(W, IW, fvec, ivec))
 
-    W, IW = np.zeros((2, 24)), np.zeros((12, 2), dtype=np.int64)
+    W, IW = np.zeros((4, 12)), np.zeros((12, 2), dtype=np.int64)
     ivec, fvec = np.zeros(3, dtype=np.int64), np.zeros(6)
     with pytest.raises(nb.errors.TypingError, match="literal 0 or 1"):
         scan_with(1, W, IW, ivec, fvec)

@@ -42,7 +42,6 @@ from faultnet._kernels.landing import land, septic_coeffs
 from faultnet._kernels.layout import CNT_SIZE
 from faultnet._kernels.local import _collect, _first_crossing, _listed
 from faultnet._kernels.stepping import activate, commit, touch
-from faultnet._kernels.tableau import N_STAGE
 
 
 @nb.njit(cache=False)
@@ -60,13 +59,9 @@ def test_septic_hermite_reproduces_a_degree_7_polynomial():
 
 @nb.njit(cache=False)
 def _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc):
-    """The kernels' Graph and Work bundles of these arrays (fresh counters).
-
-    ``W`` holds the block columns and, after them, the stage array K (two views).
-    """
+    """The kernels' Graph and Work bundles of these arrays (fresh counters)."""
     graph = Graph(indptr, indices, kval, diag, oms, cfr)
-    cnt = np.zeros(CNT_SIZE, dtype=np.int64)
-    return graph, Work(W[:, :N_WORK], IW, loc, cnt, W[:, N_WORK:])
+    return graph, Work(W, IW, loc, np.zeros(CNT_SIZE, dtype=np.int64))
 
 
 @nb.njit(cache=False)
@@ -129,7 +124,7 @@ def _arrays(model):
 def _ring12(alpha):
     """A 12-block ring (k = 16, sigma = 0.01): its kernel arrays, dt and empty work arrays."""
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=alpha)
-    W = np.zeros((model.n, N_WORK + N_STAGE))
+    W = np.zeros((2 * model.n, N_WORK))
     IW = np.zeros((N_IWORK, model.n), dtype=np.int64)
     return model.n, _arrays(model), default_dt(model), W, IW, np.zeros(LOC_SIZE)
 
@@ -212,7 +207,7 @@ def _region_fine(h, m, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, l
 
 @nb.njit(cache=False)
 def _cache(r, b, W, IW, loc):
-    cache_boundary(r, b, W[:, :N_WORK], W[:, N_WORK:], IW, loc)
+    cache_boundary(r, b, W, W[IW.shape[1] :], IW, loc)
 
 
 @pytest.mark.parametrize("alpha", [1.0, 2.0])

@@ -13,7 +13,6 @@ import importlib
 _NAMES = {
     "LOC_SIZE": "context",
     "N_IWORK": "integrate",
-    "N_STAGE": "dopri",
     "N_WORK": "integrate",
     "STATUS_EVENT_TOO_LONG": "crossing",
     "STATUS_NONFINITE": "crossing",

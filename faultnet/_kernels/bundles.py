@@ -38,15 +38,14 @@ State = namedtuple("State", ["z", "scal", "keys", "tree"])
 
 #: The event's work space and the counters of the current call.
 #:
-#: - ``W`` (float64[N, N_WORK]): float work, block-major, columns named in
-#:   :mod:`faultnet._kernels.integrate`;
+#: - ``W`` (float64[2 N, N_WORK]): float work, block-major: row i for block i (columns named in
+#:   :mod:`faultnet._kernels.integrate`), row N + q the DP5 stage derivatives of the block at
+#:   active position q (:func:`faultnet._kernels.tableau.stage_rows`, columns ``KV``, ``KA``);
 #: - ``IW`` (int64[N_IWORK, N]): int work, rows named in :mod:`faultnet._kernels.integrate`;
 #: - ``loc`` (float64[LOC_SIZE]): the local-region context of a step
 #:   (:mod:`faultnet._kernels.context`);
-#: - ``cnt`` (int64[CNT_SIZE]): counters (``layout.CNT_*``);
-#: - ``K`` (float64[N, N_STAGE]): the DP5 stage derivatives, row q for the block at active
-#:   position q, columns named in :mod:`faultnet._kernels.tableau` (also scratch for landings).
-Work = namedtuple("Work", ["W", "IW", "loc", "cnt", "K"])
+#: - ``cnt`` (int64[CNT_SIZE]): counters (``layout.CNT_*``).
+Work = namedtuple("Work", ["W", "IW", "loc", "cnt"])
 
 #: What a call records.  Buffers of length 0 record nothing.
 #:

@@ -29,7 +29,7 @@ from faultnet._kernels.integrate import (
     poly_root,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.tableau import KA, KV, dense_coeffs, slot_dense
+from faultnet._kernels.tableau import KA, KV, dense_coeffs, slot_dense, stage_rows
 
 __all__ = [
     "JOIN",
@@ -64,7 +64,8 @@ LANDED = 3
 def stick_theta(method, h, q, i, W, K):
     """Where inside the step block i (active position q) stops; 2.0 if it does not.
 
-    ``W``: the work array; ``K``: the stage derivatives (``work.K``).
+    ``W``: the work array; ``K``: the stage derivatives
+    (:func:`~faultnet._kernels.tableau.stage_rows`).
     """
     v0 = W[i, V]
     v1 = W[i, VN]
@@ -90,7 +91,8 @@ def join_theta(method, h, q0, j, f0, f1, graph, work):
     integrated with the region's steps).  ``graph``, ``work``:
     :class:`~faultnet._kernels.bundles.Graph` and ``Work``.
     """
-    W, IW, K = work.W, work.IW, work.K
+    W, IW = work.W, work.IW
+    K = stage_rows(work)
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     if method == 1:
         g1 = g3 = g4 = g5 = g6 = g7 = 0.0
@@ -165,7 +167,7 @@ def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, gr
     if not (v1 < vmax):
         return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
     if v1 <= 0.0 or (W[i, A] < 0.0 and W[i, AN] > 0.0):  # else stick_theta gives 2.0
-        th = stick_theta(method, h, q, i, W, work.K)
+        th = stick_theta(method, h, q, i, W, stage_rows(work))
         if th < best:
             best, who, kind = th, i, STICK
         if listing and th <= 1.0:

@@ -4,8 +4,8 @@ Same contract as :func:`faultnet._kernels.integrate.rk4_step`: from the
 committed state (D, V, A) of the active blocks to (DN, VN, AN), leaving
 ``P == P2 == DN`` on active blocks and D, V, A untouched.  Stage derivatives
 live in the columns ``KV + s`` (velocities) and ``KA + s`` (accelerations) of
-the stage array ``work.K``, in the row of the block's position in the active
-list (``K[q, KV + s]``).
+the stage rows of W (:func:`~faultnet._kernels.tableau.stage_rows`), in the row
+of the block's position in the active list (``K[q, KV + s]``).
 
 For the same accuracy this fifth-order scheme takes steps about five times
 longer than RK4 with 6 instead of 4 force evaluations per step (the seventh,
@@ -51,6 +51,7 @@ from faultnet._kernels.tableau import (
     N_STAGE,
     dense_coeffs,
     slot_dense,
+    stage_rows,
 )
 
 __all__ = [
@@ -152,7 +153,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     once here; the stage passes inline :func:`_acc` and the scan.
     """
     W, IW, loc = work.W, work.IW, work.loc
-    K = work.K
+    K = stage_rows(work)
     bnd = loc[LOC_BND_END] > loc[LOC_BND_START]
     th0 = loc[LOC_REGION_T]
     # runtime column numbers: one compiled signature of boundary_positions

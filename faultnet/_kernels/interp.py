@@ -55,7 +55,7 @@ from faultnet._kernels.integrate import (
 from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 from faultnet._kernels.stepping import activate, deactivate, stick_scan
-from faultnet._kernels.tableau import KA, KV, slot_dense
+from faultnet._kernels.tableau import KA, KV, slot_dense, stage_rows
 
 __all__ = ["JOINING", "interpolated_crossings"]
 
@@ -79,7 +79,7 @@ def _stop(b, th, h, graph, work):
     """Block b stops at fraction th: its end position on the dense output, neighbours corrected."""
     W = work.W
     q = work.IW[APOS, b]
-    c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, work.K, q, KV, W[b, VN])
+    c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, stage_rows(work), q, KV, W[b, VN])
     xs = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
     # antiderivatives P(s) = sum c_m s^(m+1)/(m+1), Q(s) = sum c_m s^(m+2)/(m+2)
     p1 = c0 + c1 / 2.0 + c2 / 3.0 + c3 / 4.0 + c4 / 5.0
@@ -114,7 +114,7 @@ def _join(j, th, h, graph, work):
         n = indices[p]
         if IW[FLAG, n] == ACTIVE:
             q = IW[APOS, n]
-            c0, c1, c2, c3, c4 = slot_dense(W[n, V], W[n, VN], h, work.K, q, KA, W[n, AN])
+            c0, c1, c2, c3, c4 = slot_dense(W[n, V], W[n, VN], h, stage_rows(work), q, KA, W[n, AN])
             df += kval[p] * (c0 + th * (c1 + th * (c2 + th * (c3 + th * c4))))
             ddf += kval[p] * (c1 + th * (2.0 * c2 + th * (3.0 * c3 + th * 4.0 * c4)))
     ddf /= h
@@ -190,7 +190,7 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
         th = loc[LOC_THETA + c] if c < THETA_CACHE else 2.0
         if IW[FLAG, b] == ACTIVE:
             if th > 1.0:  # a dip, or a block that joined at rest: its own root
-                th = stick_theta(one, h, IW[APOS, b], b, W, work.K)
+                th = stick_theta(one, h, IW[APOS, b], b, W, stage_rows(work))
             if th > 1.0:
                 IW[CAND, c] = -1  # no stop after all
                 continue

@@ -56,7 +56,7 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.tableau import KV
+from faultnet._kernels.tableau import KV, stage_rows
 
 __all__ = ["land", "septic_coeffs", "septic_root"]
 
@@ -170,7 +170,7 @@ def _derivs(i, qb, th0, th1, graph, work):
     move on the outer step's dense output, between its fractions th0 and th1.
     """
     W, IW, loc = work.W, work.IW, work.loc
-    K = work.K
+    K = stage_rows(work)
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     sv0 = sa0 = sv1 = sa1 = 0.0
     for p in range(indptr[i], indptr[i + 1]):
@@ -201,7 +201,7 @@ def _join_theta(th, who, h, q0, graph, work):
     boundary leaves the region: the scan returns theta 0, never landed here).
     """
     W, IW = work.W, work.IW
-    K = work.K
+    K = stage_rows(work)
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     h2 = h * h
     h3 = h2 * h
@@ -241,7 +241,7 @@ def _place(t, who, h, q0, nact, graph, work):
     threshold.  Inside a local region its boundary is placed at ``t`` too.
     """
     W, IW, loc = work.W, work.IW, work.loc
-    K = work.K
+    K = stage_rows(work)
     h2 = h * h
     h3 = h2 * h
     for q in range(q0, nact):
@@ -290,7 +290,7 @@ def land(th, who, h, q0, qb, nact, graph, work):
     are rewritten by the next step.
     """
     W, IW, loc = work.W, work.IW, work.loc
-    K = work.K
+    K = stage_rows(work)
     th0 = th1 = 0.0
     if qb > 0:
         th0 = loc[LOC_REGION_T]

@@ -102,6 +102,7 @@ from faultnet._kernels.layout import (
     CTRL_MAX_VELOCITY,
 )
 from faultnet._kernels.stepping import apply_crossing, commit, step_scan, to_crossing
+from faultnet._kernels.tableau import stage_rows
 
 __all__ = ["RHO", "local_step"]
 
@@ -187,7 +188,7 @@ def _collect(hh, nact, mark, graph, work):
     more than ``IW[CAND]`` holds.
     """
     W, IW, loc = work.W, work.IW, work.loc
-    K = work.K
+    K = stage_rows(work)
     indptr, indices = graph.indptr, graph.indices
     n = 0
     zero = n - n  # int64, not a literal: the scan's signature of join_theta
@@ -275,7 +276,7 @@ def _grow(c, cur, q0, step_id, mark, graph, work):
 def _border(m, cur, base, work):
     """Add slipping block m (outside the region) to the boundary; False on a conflict."""
     W, IW, loc = work.W, work.IW, work.loc
-    K = work.K
+    K = stage_rows(work)
     reg = IW[REGION, m]
     if reg == cur or reg == -cur:
         return True
@@ -374,12 +375,12 @@ def _sub_run(
     caller falls back), else -1.
     """
     W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
-    K = work.K
+    K = stage_rows(work)
     indptr, indices = graph.indptr, graph.indices
     vmax = ctrl[CTRL_MAX_VELOCITY]
     tau = 0.0
     n = 0
-    cap = W.shape[0]
+    cap = IW.shape[1]
     while nact > q0:
         h = hh - tau
         if h <= 1e-12 * hh:
@@ -431,7 +432,7 @@ def _quiet(cur, s0, graph, work):
     (the boundary at its end position, column P2).
     """
     W, IW, loc = work.W, work.IW, work.loc
-    K = work.K
+    K = stage_rows(work)
     boundary_at(1.0, W, K, IW, loc)
     for r in range(s0, int(loc[LOC_NSAVED])):
         j = IW[SLIST, r]

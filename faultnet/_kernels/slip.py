@@ -108,7 +108,7 @@ def _exact_loop(method, regions, ev, nact, ntouch, w, state, ctrl, graph, work, 
     t = 0.0
     nsteps = 0
     zero = nsteps - nsteps  # int64, not a literal: one compiled signature per kernel
-    n_blocks = W.shape[0]
+    n_blocks = IW.shape[1]
     h_local = dt  # outer step with local regions: shorter when crossings are dense
     while nact > 0:
         local = method == 1 and nact >= n_local and 4 * nact < n_blocks

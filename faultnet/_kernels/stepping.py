@@ -54,6 +54,7 @@ from faultnet._kernels.layout import (
     CNT_PARTIAL_BLOCK_STEPS,
     CNT_RELOCATIONS,
 )
+from faultnet._kernels.tableau import stage_rows
 
 __all__ = [
     "activate",
@@ -243,7 +244,7 @@ def _polish(h, hmax, who, kind, method, q0, nact, graph, work):
     step length and the number of full step evaluations it took.
     """
     W, IW, loc = work.W, work.IW, work.loc
-    K = work.K
+    K = stage_rows(work)
     n = 0
     for _ in range(6):
         g, dg = _residual(who, kind, W, graph)

@@ -7,11 +7,13 @@ coefficients (20% faster than loops over a coefficient array).
 
 from faultnet._kernels.jit import inline_kernel
 
-__all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense"]
+__all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense", "stage_rows"]
 
-# The stage derivatives of the block at active position q are row q of the stage array
-# ``work.K`` (float64[N, N_STAGE]), apart from the blocks' own work ``W``: a block's row of W
-# then fits in 96 bytes, which counts on graphs that do not fit in the cache.
+# The stage derivatives of the block at active position q are row N + q of the work array
+# ``work.W`` (float64[2 N, N_WORK]), below the N blocks' own rows: a block's row then fits in
+# 96 bytes, which counts on graphs that do not fit in the cache, and the kernels still take one
+# array (a second array in the ``Work`` bundle cost the ring W1 3-5%: every crossing kernel
+# takes the bundle).  :func:`stage_rows` is the view of those rows.
 KV = 0  # 6 columns of stage velocities
 KA = 6  # 6 columns of stage accelerations
 N_STAGE = 12
@@ -66,3 +68,12 @@ def slot_dense(y0, y1, h, K, q, col, end):
         h * K[q, col + 5],
         h * end,
     )
+
+
+@inline_kernel
+def stage_rows(work):
+    """The DP5 stage derivatives: rows N.. of ``work.W``, row q for active position q.
+
+    A view; the kernels run without Numba's reference counting, so it costs nothing.
+    """
+    return work.W[work.IW.shape[1] :]
