@@ -162,3 +162,8 @@ def test_step_matches_a_dense_reference(region, seed):
     still = [j for j in others if j not in boundary]
     np.testing.assert_array_equal(W[still][:, [D, P, P2]], before[still][:, [D, P, P2]])
     np.testing.assert_array_equal(W[blocks, D], x[blocks])
+
+
+def test_stage_columns_fit_a_row_of_the_work_array():
+    """The stage rows below the blocks' rows of W hold KV + 0..5 and KA + 0..5."""
+    assert 0 <= KV and KV + 6 <= KA and KA + 6 <= N_WORK

@@ -166,7 +166,7 @@ def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, gr
     v1 = W[i, VN]
     if not (v1 < vmax):
         return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
-    if v1 <= 0.0 or (W[i, A] < 0.0 and W[i, AN] > 0.0):  # else stick_theta gives 2.0
+    if v1 <= 0.0 or W[i, A] < 0.0:
         th = stick_theta(method, h, q, i, W, stage_rows(work))
         if th < best:
             best, who, kind = th, i, STICK

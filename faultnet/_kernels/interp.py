@@ -167,7 +167,8 @@ def _joins_near(b, nact, ntouch, w, keys, graph, work):
         n = indices[p]
         nact, ntouch = _join_at_threshold(n, nact, ntouch, w, keys, graph, work)
         for r in range(indptr[n], indptr[n + 1]):
-            nact, ntouch = _join_at_threshold(indices[r], nact, ntouch, w, keys, graph, work)
+            if indices[r] != b:  # b is checked above
+                nact, ntouch = _join_at_threshold(indices[r], nact, ntouch, w, keys, graph, work)
     return nact, ntouch
 
 
