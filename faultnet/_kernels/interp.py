@@ -153,22 +153,27 @@ def _join_at_threshold(j, nact, ntouch, w, keys, graph, work):
 
 @kernel
 def _joins_near(b, nact, ntouch, w, keys, graph, work):
-    """Joins at the end of a step near crossing block b: b and the blocks within two springs.
+    """Joins at the end of a step near crossing block b: b, its neighbours, and theirs.
 
-    After the step's scan listed every join, only b (stopped or started) and its neighbours
-    (their ends corrected, :func:`_correct`) moved, so a stuck block that reaches the
-    threshold now is within two springs of some crossing block: scanning there finds every
-    block a scan of the whole event would (the whole event's scan cost a sixth of the time on
-    a 150^2 lattice at rtol 2e-5), in the order of the crossings.
+    After the step's scan listed every join, only b (stopped or started) and its slipping
+    neighbours (their ends corrected, :func:`_correct`) moved, so a stuck block that reaches
+    the threshold now is a neighbour of b or of one of b's slipping neighbours: scanning
+    there finds every block a scan of the whole event would (the whole event's scan cost a
+    sixth of the time on a 150^2 lattice at rtol 2e-5), in the order of the crossings.
     """
-    indptr, indices = graph.indptr, graph.indices
+    indptr, indices, IW = graph.indptr, graph.indices, work.IW
     nact, ntouch = _join_at_threshold(b, nact, ntouch, w, keys, graph, work)
     for p in range(indptr[b], indptr[b + 1]):
         n = indices[p]
+        # only a slipping neighbour was corrected; a stuck one has not moved
+        corrected = IW[FLAG, n] == ACTIVE
         nact, ntouch = _join_at_threshold(n, nact, ntouch, w, keys, graph, work)
-        for r in range(indptr[n], indptr[n + 1]):
-            if indices[r] != b:  # b is checked above
-                nact, ntouch = _join_at_threshold(indices[r], nact, ntouch, w, keys, graph, work)
+        if corrected:
+            for r in range(indptr[n], indptr[n + 1]):
+                if indices[r] != b:  # b is checked above
+                    nact, ntouch = _join_at_threshold(
+                        indices[r], nact, ntouch, w, keys, graph, work
+                    )
     return nact, ntouch
 
 
