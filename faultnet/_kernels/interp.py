@@ -45,6 +45,7 @@ from faultnet._kernels.integrate import (
     SV,
     UNTOUCHED,
     VN,
+    VS,
     A,
     D,
     P,
@@ -59,8 +60,10 @@ from faultnet._kernels.tableau import KA, KV, slot_dense, stage_rows
 
 __all__ = ["JOINING", "interpolated_crossings"]
 
-#: flag of a stuck block that joins at the end of this step (between the two passes)
+#: flag of a stuck block that joins inside this step (until the step is committed)
 JOINING = 4
+#: flag of a slipping block that stops inside this step (while the crossings are located)
+STOPPING = 5
 
 
 @kernel
@@ -95,24 +98,21 @@ def _stop(b, th, h, graph, work):
 
 
 @kernel
-def _join(j, th, h, graph, work):
-    """Stuck block j reaches the threshold at fraction th: its Taylor start, neighbours corrected.
+def _start_rates(j, th, h, graph, work):
+    """Acceleration, jerk and snap of stuck block j starting at fraction th of the step.
 
-    The start is the Taylor series of j's path to the fourth power of the time since the
-    join: acceleration a0 = 1 - oms, jerk J = F' + oms cfr a0, snap
-    S = F'' - diag a0 + oms cfr J - 2 oms cfr^2 a0^2, with F' and F'' from the slipping
-    neighbours' dense velocities and accelerations at th.  Keeps the start's displacement and
-    velocity in ``W[j, SV]``, ``W[j, SA]`` (columns of the RK4 step, free with DP5) for
-    :func:`interpolated_crossings`' second pass.
+    a0 = 1 - oms, J = F' + oms cfr a0, S = F'' - diag a0 + oms cfr J - 2 oms cfr^2 a0^2, with
+    F' and F'' from the moving neighbours' dense velocities and accelerations at th (slipping,
+    or slipping until a stop later in the step).
     """
     W, IW = work.W, work.IW
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
-    diag, oms, cfr = graph.diag, graph.oms, graph.cfr
+    oms, cfr = graph.oms, graph.cfr
     df = 0.0
     ddf = 0.0
     for p in range(indptr[j], indptr[j + 1]):
         n = indices[p]
-        if IW[FLAG, n] == ACTIVE:
+        if IW[FLAG, n] == ACTIVE or IW[FLAG, n] == STOPPING:
             q = IW[APOS, n]
             c0, c1, c2, c3, c4 = slot_dense(W[n, V], W[n, VN], h, stage_rows(work), q, KA, W[n, AN])
             df += kval[p] * (c0 + th * (c1 + th * (c2 + th * (c3 + th * c4))))
@@ -121,7 +121,20 @@ def _join(j, th, h, graph, work):
     a0 = 1.0 - oms[j]
     g = oms[j] * cfr[j]
     jerk = df + g * a0
-    snap = ddf - diag[j] * a0 + g * jerk - 2.0 * g * cfr[j] * a0 * a0
+    snap = ddf - graph.diag[j] * a0 + g * jerk - 2.0 * g * cfr[j] * a0 * a0
+    return a0, jerk, snap
+
+
+@kernel
+def _join(j, th, h, graph, work):
+    """Stuck block j reaches the threshold at fraction th: its Taylor start, neighbours corrected.
+
+    The start is the Taylor series of j's path to the fourth power of the time since the
+    join (:func:`_start_rates`).  Keeps the start's displacement and velocity in
+    ``W[j, SV]``, ``W[j, SA]`` (columns of the RK4 step, free with DP5) for the commit.
+    """
+    W = work.W
+    a0, jerk, snap = _start_rates(j, th, h, graph, work)
     t = (1.0 - th) * h
     t2 = t * t
     W[j, SV] = t2 * (0.5 * a0 + t * (jerk / 6.0 + snap * t / 24.0))
@@ -130,6 +143,47 @@ def _join(j, th, h, graph, work):
     dv = t3 * (a0 / 6.0 + t * (jerk / 24.0 + snap * t / 120.0))
     dx = t3 * t * (a0 / 24.0 + t * (jerk / 120.0 + snap * t / 720.0))
     _correct(j, dv, dx, graph, work)
+
+
+@kernel
+def _chained(j, th, h, graph, work):
+    """The fraction at which stuck block j joins, given its neighbours' crossings before th.
+
+    The step moved j's neighbours as if none of them stopped or started inside it, so j's
+    force on the dense output reaches 1 at th.  A neighbour m that stops (or starts) at
+    ``W[m, VS] < th`` in fact stays behind (moves ahead) by ``e`` at th, and j's force is
+    higher by ``k e``: a join behind a neighbour's join in the same step, common at a rupture
+    front at the statistics level, comes earlier by ``k e / F'`` (one Newton step).
+    """
+    W, IW, K = work.W, work.IW, stage_rows(work)
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
+    dF = 0.0
+    lo = th
+    for p in range(indptr[j], indptr[j + 1]):
+        m = indices[p]
+        fl = IW[FLAG, m]
+        if fl != STOPPING and fl != JOINING:
+            continue
+        tm = W[m, VS]
+        if tm >= th:
+            continue
+        if fl == STOPPING:
+            c0, c1, c2, c3, c4 = slot_dense(W[m, D], W[m, DN], h, K, IW[APOS, m], KV, W[m, VN])
+            e = c1 * (tm - th) + c2 * (tm**2 - th**2) + c3 * (tm**3 - th**3)
+            e += c4 * (tm**4 - th**4)
+        else:
+            a0, jerk, snap = _start_rates(m, tm, h, graph, work)
+            t = (th - tm) * h
+            e = t * t * (0.5 * a0 + t * (jerk / 6.0 + snap * t / 24.0))
+        dF += kval[p] * e
+        lo = min(lo, tm)
+    if dF == 0.0:
+        return th
+    a0, jerk, snap = _start_rates(j, th, h, graph, work)
+    df = jerk - graph.oms[j] * graph.cfr[j] * a0  # F' at th
+    if df <= 0.0:
+        return th
+    return max(th - dF / (h * df), lo)
 
 
 @kernel
@@ -142,17 +196,67 @@ def _refresh(b, graph, work):
             W[n, A] = accel(n, P, V, W, graph)
 
 
+@kernel
+def _late_start(j, over, h, graph, work):
+    """Start block j, whose force is ``1 + over`` at the end of the step, where it crossed 1.
+
+    Its force rose past the threshold only through the crossings' corrections, so the scan
+    did not place it; it crossed t before the step's end, the root of the force's Taylor
+    series at the end (F' and F'' from its slipping neighbours' velocities and accelerations;
+    at most h), and it starts there on the Taylor series of its path
+    to the third power of the time since the join.  Starting it at rest at the step's end
+    instead would make it join up to a whole step late.
+    """
+    W, IW, kval, indices = work.W, work.IW, graph.kval, graph.indices
+    d1 = 0.0
+    d2 = 0.0
+    for p in range(graph.indptr[j], graph.indptr[j + 1]):
+        n = indices[p]
+        if IW[FLAG, n] == ACTIVE and n != j:
+            d1 += kval[p] * W[n, V]
+            d2 += kval[p] * W[n, A]
+    # the latest t > 0 before the end at which F = 1: over - d1 t + d2 t^2 / 2 = 0
+    disc = d1 * d1 - 2.0 * d2 * over
+    if d2 != 0.0 and disc >= 0.0:
+        r = disc**0.5
+        t1 = (d1 - r) / d2
+        t2 = (d1 + r) / d2
+        t = min(t1, t2) if min(t1, t2) > 0.0 else max(t1, t2)
+    elif d1 > 0.0:
+        t = over / d1
+    else:
+        return
+    if not t > 0.0:
+        return
+    t = min(t, h)
+    a0 = 1.0 - graph.oms[j]
+    jerk = (d1 - d2 * t) + graph.oms[j] * graph.cfr[j] * a0
+    x = W[j, D] + t * t * (0.5 * a0 + t * jerk / 6.0)
+    W[j, D] = x
+    W[j, P] = x
+    W[j, P2] = x
+    W[j, DN] = x
+    v = t * (a0 + 0.5 * t * jerk)
+    W[j, V] = v
+    W[j, VN] = v
+    W[j, A] = accel(j, P, V, W, graph)
+    _refresh(j, graph, work)
+
+
 @inline_kernel
-def _join_at_threshold(j, nact, ntouch, w, keys, graph, work):
+def _join_at_threshold(j, h, nact, ntouch, w, keys, graph, work):
     """Activate touched stuck block j if its force is >= 1.  Returns (nact, ntouch)."""
     flag = work.IW[FLAG, j]
-    if flag != ACTIVE and flag != UNTOUCHED and force(j, D, work.W, graph) >= 1.0:
-        return activate(j, nact, ntouch, w, keys, graph, work)
+    if flag != ACTIVE and flag != UNTOUCHED:
+        f = force(j, D, work.W, graph)
+        if f >= 1.0:
+            nact, ntouch = activate(j, nact, ntouch, w, keys, graph, work)
+            _late_start(j, f - 1.0, h, graph, work)
     return nact, ntouch
 
 
 @kernel
-def _joins_near(b, nact, ntouch, w, keys, graph, work):
+def _joins_near(b, h, nact, ntouch, w, keys, graph, work):
     """Joins at the end of a step near crossing block b: b, its neighbours, and theirs.
 
     After the step's scan listed every join, only b (stopped or started) and its slipping
@@ -162,19 +266,54 @@ def _joins_near(b, nact, ntouch, w, keys, graph, work):
     sixth of the time on a 150^2 lattice at rtol 2e-5), in the order of the crossings.
     """
     indptr, indices, IW = graph.indptr, graph.indices, work.IW
-    nact, ntouch = _join_at_threshold(b, nact, ntouch, w, keys, graph, work)
+    nact, ntouch = _join_at_threshold(b, h, nact, ntouch, w, keys, graph, work)
     for p in range(indptr[b], indptr[b + 1]):
         n = indices[p]
         # only a slipping neighbour was corrected; a stuck one has not moved
         corrected = IW[FLAG, n] == ACTIVE
-        nact, ntouch = _join_at_threshold(n, nact, ntouch, w, keys, graph, work)
+        nact, ntouch = _join_at_threshold(n, h, nact, ntouch, w, keys, graph, work)
         if corrected:
             for r in range(indptr[n], indptr[n + 1]):
                 if indices[r] != b:  # b is checked above
                     nact, ntouch = _join_at_threshold(
-                        indices[r], nact, ntouch, w, keys, graph, work
+                        indices[r], h, nact, ntouch, w, keys, graph, work
                     )
     return nact, ntouch
+
+
+@kernel
+def _locate(h, ncand, graph, work):
+    """Each listed crossing's fraction of the step, in ``W[b, VS]``, before any is applied.
+
+    Stops are marked ``IW[CAND, c] = -2 - b`` and flagged STOPPING, joins flagged JOINING
+    (after every fraction is found: the joins' roots read their slipping neighbours);
+    a slipping block that does not stop after all and a join listed twice become -1.
+    """
+    W, IW, loc = work.W, work.IW, work.loc
+    one = ncand - ncand + 1  # int64: one signature of the crossing kernels
+    for c in range(ncand):
+        b = IW[CAND, c]
+        th = loc[LOC_THETA + c] if c < THETA_CACHE else 2.0
+        if IW[FLAG, b] == ACTIVE:
+            if th > 1.0:  # a dip, or a block that joined at rest: its own root
+                th = stick_theta(one, h, IW[APOS, b], b, W, stage_rows(work))
+            if th > 1.0:
+                IW[CAND, c] = -1  # no stop after all
+                continue
+            IW[CAND, c] = -2 - b
+        elif IW[FLAG, b] != JOINING:
+            if th > 1.0:
+                f0 = force(b, D, W, graph)
+                f1 = force(b, P2, W, graph)
+                th = 0.0 if f0 >= 1.0 else join_theta(one, h, one - one, b, f0, f1, graph, work)
+            IW[FLAG, b] = JOINING
+        else:
+            IW[CAND, c] = -1  # listed twice
+            continue
+        W[b, VS] = th
+    for c in range(ncand):
+        if IW[CAND, c] <= -2:
+            IW[FLAG, -2 - IW[CAND, c]] = STOPPING
 
 
 @kernel
@@ -188,30 +327,24 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
     """
     W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
     ncand = int(loc[LOC_NCAND])
-    one = ncand - ncand + 1  # int64: one signature of the crossing kernels
     th_stop = 0.0
-    # first pass, on the step's own values (D, V, A -> DN, VN, AN and the stages)
+    _locate(h, ncand, graph, work)
     for c in range(ncand):
         b = IW[CAND, c]
-        th = loc[LOC_THETA + c] if c < THETA_CACHE else 2.0
-        if IW[FLAG, b] == ACTIVE:
-            if th > 1.0:  # a dip, or a block that joined at rest: its own root
-                th = stick_theta(one, h, IW[APOS, b], b, W, stage_rows(work))
-            if th > 1.0:
-                IW[CAND, c] = -1  # no stop after all
-                continue
-            _stop(b, th, h, graph, work)
+        if b >= 0:
+            W[b, VS] = _chained(b, W[b, VS], h, graph, work)
+    for c in range(ncand):
+        if IW[CAND, c] <= -2:
+            IW[FLAG, -2 - IW[CAND, c]] = ACTIVE
+    # on the step's own values (D, V, A -> DN, VN, AN and the stages), corrected as they go
+    for c in range(ncand):
+        e = IW[CAND, c]
+        if e <= -2:
+            th = W[-2 - e, VS]
+            _stop(-2 - e, th, h, graph, work)
             th_stop = max(th_stop, th)
-            IW[CAND, c] = -2 - b
-        elif IW[FLAG, b] != JOINING:
-            if th > 1.0:
-                f0 = force(b, D, W, graph)
-                f1 = force(b, P2, W, graph)
-                th = 0.0 if f0 >= 1.0 else join_theta(one, h, one - one, b, f0, f1, graph, work)
-            _join(b, th, h, graph, work)
-            IW[FLAG, b] = JOINING
-        else:
-            IW[CAND, c] = -1  # listed twice
+        elif e >= 0:
+            _join(e, W[e, VS], h, graph, work)
     # commit the step, then stops, joins and the accelerations they change
     for q in range(nact):
         i = IW[ACT, q]
@@ -248,6 +381,7 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
     for c in range(ncand):
         e = IW[CAND, c]
         if e != -1:
-            nact, ntouch = _joins_near(-2 - e if e <= -2 else e, nact, ntouch, w, keys, graph, work)
+            b = -2 - e if e <= -2 else e
+            nact, ntouch = _joins_near(b, h, nact, ntouch, w, keys, graph, work)
     nact = stick_scan(ntouch - ntouch, nact, W, IW)
     return nact, ntouch, th_stop
