@@ -79,7 +79,10 @@ def _correct(b, dv, dx, graph, work):
 
 @kernel
 def _stop(b, th, h, graph, work):
-    """Block b stops at fraction th: its end position on the dense output, neighbours corrected."""
+    """Block b stops at fraction th: its end position on the dense output, neighbours corrected.
+
+    Keeps its acceleration at the stop in ``W[b, SA]`` for :func:`_late_start`.
+    """
     W = work.W
     q = work.IW[APOS, b]
     c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, stage_rows(work), q, KV, W[b, VN])
@@ -94,6 +97,7 @@ def _stop(b, th, h, graph, work):
     i2 = xs * 0.5 * r * r - ((p1 - pt) - (q1 - qt))  # int_th^1 (1 - s)(x_s - p(s)) ds
     W[b, DN] = xs
     W[b, VN] = 0.0
+    W[b, SA] = (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4)) / (h * h)  # a at the stop
     _correct(b, h * i1, h * h * i2, graph, work)
 
 
@@ -196,41 +200,64 @@ def _refresh(b, graph, work):
             W[n, A] = accel(n, P, V, W, graph)
 
 
+@inline_kernel
+def _first_root(c0, c1, c2, lo, hi):
+    """Smallest root of c0 + c1 t + c2 t^2 in (lo, hi], or -1.0."""
+    best = -1.0
+    if c2 == 0.0:
+        if c1 != 0.0:
+            r = -c0 / c1
+            if lo < r <= hi:
+                best = r
+        return best
+    disc = c1 * c1 - 4.0 * c2 * c0
+    if disc < 0.0:
+        return best
+    sq = disc**0.5
+    r1 = (-c1 - sq) / (2.0 * c2)
+    r2 = (-c1 + sq) / (2.0 * c2)
+    for r in (min(r1, r2), max(r1, r2)):
+        if lo < r <= hi:
+            return r
+    return best
+
+
 @kernel
-def _late_start(j, over, h, graph, work):
+def _late_start(j, over, h, b, graph, work):
     """Start block j, whose force is ``1 + over`` at the end of the step, where it crossed 1.
 
-    Its force rose past the threshold only through the crossings' corrections, so the scan
-    did not place it; it crossed t before the step's end, the root of the force's Taylor
-    series at the end (F' and F'' from its slipping neighbours' velocities and accelerations;
-    at most h), and it starts there on the Taylor series of its path
-    to the third power of the time since the join.  Starting it at rest at the step's end
-    instead would make it join up to a whole step late.
+    Its force passed the threshold only through the crossings' corrections, so the scan did
+    not place it.  Going back from the step's end by t, the force falls by
+    ``d1 t - d2 t^2 / 2`` (d1, d2 from its slipping neighbours' velocities and accelerations)
+    and, before the stop of neighbour b (``W[b, VS]``, ``-1``: none) by
+    ``k |a_b| (t - t_b)^2 / 2`` more (b's deceleration at its stop, ``W[b, SA]``; a force
+    rises monotonically in an event, so a join that the stop of b made appear happened before
+    that stop).  j crossed 1 at the first root (at most h back) and starts there on the
+    Taylor series of its path to the third power of the time since the join; starting it at
+    rest at the step's end would make it join up to a whole step late.
     """
     W, IW, kval, indices = work.W, work.IW, graph.kval, graph.indices
     d1 = 0.0
     d2 = 0.0
+    cb = 0.0
     for p in range(graph.indptr[j], graph.indptr[j + 1]):
         n = indices[p]
         if IW[FLAG, n] == ACTIVE and n != j:
             d1 += kval[p] * W[n, V]
             d2 += kval[p] * W[n, A]
-    # the latest t > 0 before the end at which F = 1: over - d1 t + d2 t^2 / 2 = 0
-    disc = d1 * d1 - 2.0 * d2 * over
-    if d2 != 0.0 and disc >= 0.0:
-        r = disc**0.5
-        t1 = (d1 - r) / d2
-        t2 = (d1 + r) / d2
-        t = min(t1, t2) if min(t1, t2) > 0.0 else max(t1, t2)
-    elif d1 > 0.0:
-        t = over / d1
-    else:
-        return
-    if not t > 0.0:
-        return
-    t = min(t, h)
+        elif n == b and IW[FLAG, n] != ACTIVE:
+            cb = 0.5 * kval[p] * abs(W[b, SA])
+    tb = h
+    if cb > 0.0:
+        tb = (1.0 - W[b, VS]) * h
+    t = _first_root(over, -d1, 0.5 * d2, 0.0, tb)
+    if t < 0.0 and tb < h:  # before b's stop
+        t = _first_root(over - cb * tb * tb, 2.0 * cb * tb - d1, 0.5 * d2 - cb, tb, h)
+    if t < 0.0:
+        t = h
     a0 = 1.0 - graph.oms[j]
-    jerk = (d1 - d2 * t) + graph.oms[j] * graph.cfr[j] * a0
+    df = d1 - d2 * t + 2.0 * cb * max(t - tb, 0.0)  # F' at the join
+    jerk = df + graph.oms[j] * graph.cfr[j] * a0
     x = W[j, D] + t * t * (0.5 * a0 + t * jerk / 6.0)
     W[j, D] = x
     W[j, P] = x
@@ -244,14 +271,17 @@ def _late_start(j, over, h, graph, work):
 
 
 @inline_kernel
-def _join_at_threshold(j, h, nact, ntouch, w, keys, graph, work):
-    """Activate touched stuck block j if its force is >= 1.  Returns (nact, ntouch)."""
+def _join_at_threshold(j, h, b, nact, ntouch, w, keys, graph, work):
+    """Activate touched stuck block j if its force is >= 1 (b: its crossing neighbour or -1).
+
+    Returns (nact, ntouch).
+    """
     flag = work.IW[FLAG, j]
     if flag != ACTIVE and flag != UNTOUCHED:
         f = force(j, D, work.W, graph)
         if f >= 1.0:
             nact, ntouch = activate(j, nact, ntouch, w, keys, graph, work)
-            _late_start(j, f - 1.0, h, graph, work)
+            _late_start(j, f - 1.0, h, b, graph, work)
     return nact, ntouch
 
 
@@ -266,17 +296,17 @@ def _joins_near(b, h, nact, ntouch, w, keys, graph, work):
     sixth of the time on a 150^2 lattice at rtol 2e-5), in the order of the crossings.
     """
     indptr, indices, IW = graph.indptr, graph.indices, work.IW
-    nact, ntouch = _join_at_threshold(b, h, nact, ntouch, w, keys, graph, work)
+    nact, ntouch = _join_at_threshold(b, h, b - b - 1, nact, ntouch, w, keys, graph, work)
     for p in range(indptr[b], indptr[b + 1]):
         n = indices[p]
         # only a slipping neighbour was corrected; a stuck one has not moved
         corrected = IW[FLAG, n] == ACTIVE
-        nact, ntouch = _join_at_threshold(n, h, nact, ntouch, w, keys, graph, work)
+        nact, ntouch = _join_at_threshold(n, h, b, nact, ntouch, w, keys, graph, work)
         if corrected:
             for r in range(indptr[n], indptr[n + 1]):
                 if indices[r] != b:  # b is checked above
                     nact, ntouch = _join_at_threshold(
-                        indices[r], h, nact, ntouch, w, keys, graph, work
+                        indices[r], h, b - b - 1, nact, ntouch, w, keys, graph, work
                     )
     return nact, ntouch
 
