@@ -219,13 +219,16 @@ class KernelArrays:
         kernel (:meth:`RunOptions.entry`) may follow the model.
         """
         oms = 1.0 - model.sigma_values
+        kval = model.adjacency.data.astype(np.float64)
+        uniform = kval.size > 0 and kval[0] > 0.0 and bool(np.all(kval == kval[0]))
         self.graph = Graph(
             indptr=self.indptr,
             indices=self.indices,
-            kval=model.adjacency.data.astype(np.float64),
+            kval=kval,
             diag=model.stiffness.astype(np.float64),
             oms=oms,
             cfr=2.0 * model.alpha_values / oms,
+            k_uniform=float(kval[0]) if uniform else 0.0,
         )
         self.ctrl[CTRL_DT] = dt
         self.ctrl[CTRL_LOCAL_FROM] = self.options.regions_from(model)

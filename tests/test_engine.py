@@ -173,7 +173,7 @@ def test_scheme_is_a_compile_time_literal():
 
     @nb.njit
     def scan_with(method, W, IW, ivec, fvec):
-        graph = Graph(ivec, ivec, fvec, fvec, fvec, fvec)
+        graph = Graph(ivec, ivec, fvec, fvec, fvec, fvec, 0.0)
         return step_scan(method, 0.1, 0, 0, 1.0, 1, graph, Work(W, IW, fvec, ivec))
 
     W, IW = np.zeros((4, 12)), np.zeros((12, 2), dtype=np.int64)

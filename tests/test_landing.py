@@ -60,7 +60,7 @@ def test_septic_hermite_reproduces_a_degree_7_polynomial():
 @nb.njit(cache=False)
 def _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc):
     """The kernels' Graph and Work bundles of these arrays (fresh counters)."""
-    graph = Graph(indptr, indices, kval, diag, oms, cfr)
+    graph = Graph(indptr, indices, kval, diag, oms, cfr, 0.0)
     return graph, Work(W, IW, loc, np.zeros(CNT_SIZE, dtype=np.int64))
 
 
@@ -105,7 +105,7 @@ def _fine(h, m, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
 
 @nb.njit(cache=False)
 def _force(j, W, indptr, indices, kval, diag, oms, cfr):
-    return force(j, D, W, Graph(indptr, indices, kval, diag, oms, cfr))
+    return force(j, D, W, Graph(indptr, indices, kval, diag, oms, cfr, 0.0))
 
 
 def _arrays(model):

@@ -23,8 +23,10 @@ __all__ = ["Graph", "Records", "State", "Work"]
 #: - ``kval`` (float64[nnz]): the spring constant of each CSR entry;
 #: - ``diag`` (float64[N]): a block's total stiffness, 1 + sum of its springs;
 #: - ``oms`` (float64[N]): 1 - sigma, the dynamic friction at rest;
-#: - ``cfr`` (float64[N]): 2 alpha / (1 - sigma), the velocity weakening of the friction.
-Graph = namedtuple("Graph", ["indptr", "indices", "kval", "diag", "oms", "cfr"])
+#: - ``cfr`` (float64[N]): 2 alpha / (1 - sigma), the velocity weakening of the friction;
+#: - ``k_uniform`` (float): the spring constant when every spring has it, else 0.0 (the DP5
+#:   stages then sum the neighbours' positions and multiply once).
+Graph = namedtuple("Graph", ["indptr", "indices", "kval", "diag", "oms", "cfr", "k_uniform"])
 
 #: The model's state between events (:mod:`faultnet._kernels.tree`).
 #:
