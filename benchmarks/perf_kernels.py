@@ -28,8 +28,8 @@ import time
 
 #: kernel modules whose compiled functions get symbols
 MODULES = (
-    "events", "slip", "solo", "integrate", "interp", "local", "landing", "stepping", "dopri",
-    "crossing", "tree", "tableau",
+    "events", "slip", "solo", "integrate", "interp", "late_joins", "local", "landing", "stepping",
+    "dopri", "crossing", "tree", "tableau",
 )  # fmt: skip
 
 
