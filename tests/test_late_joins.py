@@ -1,0 +1,120 @@
+"""End-of-step joins of the interpolated treatment (faultnet._kernels.late_joins).
+
+A stuck block found over the threshold at a step's end crossed it inside the step; the late
+start goes back from the end to where its force was 1.  On a three-block chain whose moving
+neighbour has a constant acceleration the force is exactly quadratic in time, so the crossing
+time is known in closed form: before the end through a slipping neighbour, and before a
+neighbour's stop when that stop revealed the join (a force only rises during an event).
+"""
+
+import numba as nb
+import numpy as np
+import pytest
+
+from faultnet._kernels.bundles import Graph, Work
+from faultnet._kernels.context import LOC_SIZE
+from faultnet._kernels.integrate import (
+    ACTIVE,
+    APOS,
+    F0,
+    FLAG,
+    N_IWORK,
+    N_WORK,
+    SA,
+    STUCK,
+    VS,
+    A,
+    D,
+    P,
+    V,
+)
+from faultnet._kernels.late_joins import _late_start
+from faultnet._kernels.layout import CNT_SIZE
+
+K, SIGMA, ALPHA, H = 16.0, 0.01, 1.0, 0.04
+
+
+@nb.njit(cache=False)
+def _start(j, over, h, b, W, IW, indptr, indices, kval, diag, oms, cfr):
+    graph = Graph(indptr, indices, kval, diag, oms, cfr, 0.0)
+    work = Work(W, IW, np.zeros(LOC_SIZE), np.zeros(CNT_SIZE, dtype=np.int64))
+    _late_start(j, over, h, b, graph, work)
+
+
+def _chain():
+    """Blocks 0 - 1 - 2; block 1 (j) is the stuck one."""
+    indptr = np.array([0, 1, 3, 4], dtype=np.int64)
+    indices = np.array([1, 0, 2, 1], dtype=np.int64)
+    kval = np.full(4, K)
+    diag = np.array([1.0 + K, 1.0 + 2.0 * K, 1.0 + K])
+    oms = np.full(3, 1.0 - SIGMA)
+    cfr = 2.0 * ALPHA / oms
+    W = np.zeros((6, N_WORK))
+    IW = np.zeros((N_IWORK, 3), dtype=np.int64)
+    IW[FLAG, :] = STUCK
+    W[1, F0] = 0.9  # any: the late start reads only the neighbours' motion
+    return W, IW, (indptr, indices, kval, diag, oms, cfr)
+
+
+def _expected(tau, dF):
+    """Velocity and displacement of j tau after its join, F' = dF there (third order)."""
+    a0 = SIGMA
+    jerk = dF + (1.0 - SIGMA) * (2.0 * ALPHA / (1.0 - SIGMA)) * a0
+    return tau * (a0 + 0.5 * tau * jerk), tau * tau * (0.5 * a0 + tau * jerk / 6.0)
+
+
+@pytest.mark.parametrize("a2", [0.0, 0.3, -0.03])
+def test_join_through_a_slipping_neighbour(a2):
+    """Neighbour 2 slips with v(t) = v0 + a2 t: F = 1 at t*, found back from the end."""
+    W, IW, g = _chain()
+    v0, t_star = 2e-3, 0.013
+    IW[FLAG, 2] = ACTIVE
+    IW[APOS, 2] = 0
+    W[2, V] = v0 + a2 * H  # at the step's end
+    W[2, A] = a2
+
+    def rise(t):  # force gained since the step's start
+        return K * (v0 * t + 0.5 * a2 * t * t)
+
+    over = rise(H) - rise(t_star)  # F(t*) = 1
+    x1 = W[1, D]
+    _start(1, over, H, -1, W, IW, *g)
+    tau = H - t_star
+    v, dx = _expected(tau, K * (v0 + a2 * t_star))
+    np.testing.assert_allclose(W[1, V], v, rtol=1e-12)
+    np.testing.assert_allclose(W[1, D] - x1, dx, rtol=1e-12)
+    assert W[1, P] == W[1, D]
+
+
+def test_join_revealed_by_a_neighbours_stop():
+    """Neighbour 0 decelerates at a_b and stops at theta_b; j crossed 1 before that stop."""
+    W, IW, g = _chain()
+    theta_b, a_b, t_star = 0.6, -0.25, 0.011
+    t_b = theta_b * H
+    W[0, VS] = theta_b
+    W[0, SA] = a_b
+
+    def rise(t):  # x_0(t) - x_0(0) for t <= t_b: v(t) = -a_b (t_b - t) reaches 0 at t_b
+        return K * (-a_b) * (t_b * t - 0.5 * t * t)
+
+    over = rise(t_b) - rise(t_star)  # F is constant after the stop
+    _start(1, over, H, 0, W, IW, *g)
+    tau = H - t_star
+    v, _ = _expected(tau, K * (-a_b) * (t_b - t_star))
+    np.testing.assert_allclose(W[1, V], v, rtol=1e-12)
+    # not told which neighbour stopped, it has no motion to go back through: a whole step
+    W2, IW2, g2 = _chain()
+    _start(1, over, H, -1, W2, IW2, *g2)
+    assert W2[1, V] == pytest.approx(_expected(H, 0.0)[0])
+
+
+def test_no_crossing_inside_the_step_starts_at_its_beginning():
+    """A force over 1 that the local model cannot bring back to 1 within h starts at the cap."""
+    W, IW, g = _chain()
+    IW[FLAG, 2] = ACTIVE
+    W[2, V] = 1e-4
+    W[2, A] = 0.0
+    _start(1, 1.0, H, -1, W, IW, *g)  # far over the threshold
+    v, _ = _expected(H, K * 1e-4)
+    np.testing.assert_allclose(W[1, V], v, rtol=1e-12)
+    assert np.isfinite(W[1, A])
