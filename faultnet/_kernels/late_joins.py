@@ -133,7 +133,7 @@ def joins_near(b, h, nact, ntouch, w, keys, graph, work):
     """Joins at the end of a step near crossing block b: b, its neighbours, and theirs.
 
     After the step's scan listed every join, only b (stopped or started) and its slipping
-    neighbours (their ends corrected, :func:`_correct`) moved, so a stuck block that reaches
+    neighbours (their ends corrected by ``interp._correct``) moved, so a stuck block that reaches
     the threshold now is a neighbour of b or of one of b's slipping neighbours: scanning
     there finds every block a scan of the whole event would (the whole event's scan cost a
     sixth of the time on a 150^2 lattice at rtol 2e-5), in the order of the crossings.
