@@ -183,7 +183,7 @@ def _final_metadata(model, options, identity, first_md, counters, extra, transie
         graph_hash=identity["graph_hash"],
         transient=int(transient),
         chunk_events=int(chunk_events),
-        sessions=counters["sessions"],
+        runs=counters["runs"],
         created=first_md.get("created", utc_now()),
         finished=utc_now(),
         provenance=provenance(),
@@ -242,7 +242,7 @@ def run_loop(*, model, n_events, out, wd, identity, seq, options, chunk_events, 
     """Run the job that :func:`~faultnet.runner.simulate_to_parquet` prepared; see the module."""
     ck = resume_point or Checkpoint(None)
     resumed_from = ck.rows
-    ck.counters["sessions"] += 1
+    ck.counters["runs"] += 1
     first_md, created = _open_run(wd, identity, extra)
     sink = _Catalog(wd, first_md, ck.rows)
     sim = _simulator(model, seq, options, ck, first_md, wd)

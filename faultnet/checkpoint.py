@@ -81,7 +81,9 @@ RUN_FORMAT = "faultnet-run"
 _CHUNK_RE = re.compile(r"chunk-(\d{6})\.parquet$")
 #: run.json fields that must agree for a resume to continue the same run
 IDENTITY = ("n_events", "dt", "options", "seed_entropy", "seed_spawn_key", "graph_hash")
-_COUNTERS = {"wall_time_s": float, "n_steps": int, "block_steps": int, "sessions": int}
+_COUNTERS = {"wall_time_s": float, "n_steps": int, "block_steps": int, "runs": int}
+#: a counter's name in checkpoints written by faultnet 0.2 and 0.3.0 development versions
+_FORMER_NAMES = {"runs": "sessions"}
 
 
 def checkpoint_dir(out) -> str:
@@ -199,7 +201,10 @@ def load_checkpoint(path) -> Checkpoint:
                 w=float(data["w"]),
                 n_events=int(data["n_events"]),
             )
-            counters = {name: kind(data[name]) for name, kind in _COUNTERS.items()}
+            counters = {
+                name: kind(data[name if name in data.files else _FORMER_NAMES.get(name, name)])
+                for name, kind in _COUNTERS.items()
+            }
             sha = [str(h) for h in data["chunk_sha256"]]
             ck = Checkpoint(state, int(data["rows"]), int(data["n_chunks"]), counters, sha)
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:

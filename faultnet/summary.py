@@ -275,8 +275,9 @@ def format_metadata(md) -> str:
     if wall:
         rate = f" = {md.get('n_events', 0) / wall:,.0f} events/s" if md.get("n_events") else ""
         run.append(f"{wall:.2f} s simulating{rate}")
-    if md.get("sessions", 1) > 1:
-        run.append(f"{md['sessions']} sessions (resumed)")
+    runs = md.get("runs", md.get("sessions", 1))  # "sessions" in catalogs of faultnet 0.2
+    if runs > 1:
+        run.append(f"written in {runs} runs (resumed {runs - 1} times)")
     if run:
         lines.append("run         " + "; ".join(run))
     return "\n".join(lines)

@@ -83,7 +83,7 @@ def test_sigkill_at_random_moments_then_resume(tmp_path):
     ref = faultnet.simulate(model, N_EVENTS, rng=SEED, progress=False)
     pd.testing.assert_frame_equal(cat.events, ref.events, check_exact=True)
     assert cat.metadata["n_steps"] == ref.metadata["n_steps"]
-    assert cat.metadata["sessions"] >= 2
+    assert cat.metadata["runs"] >= 2
     print(f"events committed at the {len(kills)} kills: {kills}")
 
 
@@ -205,3 +205,21 @@ def test_resume_checks_parameters(tmp_path, small):
     os.remove(os.path.join(wd, "moved"))
     _run(model, out, force=True)
     pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
+
+
+def test_checkpoint_with_the_former_counter_name_loads(tmp_path):
+    """A checkpoint that counts its runs under ``sessions`` (faultnet 0.2) still loads."""
+    import numpy as np
+
+    from faultnet.checkpoint import Checkpoint, load_checkpoint, save_checkpoint
+    from faultnet.state import State
+
+    ck = Checkpoint(State(z=np.zeros(3), offset=0.0, w=0.0, n_events=5), 5, 1, None, ["0" * 64])
+    ck.counters["runs"] = 3
+    path = tmp_path / "checkpoint.npz"
+    save_checkpoint(path, ck)
+    with np.load(path) as data:
+        fields = {k: data[k] for k in data.files}
+    fields["sessions"] = fields.pop("runs")
+    np.savez(path, **fields)
+    assert load_checkpoint(path).counters["runs"] == 3

@@ -50,7 +50,7 @@ def test_chunked_run_is_bit_identical(tmp_path):
         "block_steps",
     ):
         assert md[key] == ref.metadata[key], key
-    assert md["transient"] == 100 and md["sessions"] == 1
+    assert md["transient"] == 100 and md["runs"] == 1
     assert pq.ParquetFile(out).metadata.num_row_groups >= 8  # written in parts
     assert sorted(os.listdir(tmp_path)) == ["run.parquet"]  # checkpoint folder removed
     # iter_catalog streams the same rows

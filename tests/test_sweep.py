@@ -221,4 +221,4 @@ def test_interrupted_point_is_resumed(tmp_path):
     )
     got = read_catalog(tmp_path / "x" / "part-00001.parquet")
     pd.testing.assert_frame_equal(got.events, ref.events, check_exact=True)
-    assert got.metadata["sessions"] == 2
+    assert got.metadata["runs"] == 2
