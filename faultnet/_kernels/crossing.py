@@ -23,6 +23,7 @@ from faultnet._kernels.integrate import (
     P,
     V,
     force,
+    force_hot,
     hermite_dip,
     hermite_fall,
     hermite_root,
@@ -176,7 +177,7 @@ def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, gr
         j = indices[p]
         if IW[FLAG, j] == ACTIVE:
             continue
-        f1 = force(j, pos, W, graph)
+        f1 = force_hot(j, pos, W, graph)
         if f1 < 1.0:
             continue
         f0 = force(j, D, W, graph)

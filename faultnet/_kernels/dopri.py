@@ -23,7 +23,7 @@ from faultnet._kernels.context import (
     LOC_REGION_T,
 )
 from faultnet._kernels.crossing import STATUS_OK, block_crossings
-from faultnet._kernels.integrate import ACT, AN, APOS, BND, DN, F0, P2, VN, A, D, P, V, force
+from faultnet._kernels.integrate import ACT, AN, APOS, BND, DN, P2, VN, A, D, P, V, force_hot
 from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.tableau import (
     _A21,
@@ -125,26 +125,11 @@ def boundary_at(th, W, K, IW, loc):
 
 @inline_kernel
 def _acc(i, pos, v, W, graph):
-    """Acceleration of block i at stage positions ``pos`` and stage velocity ``v``.
-
-    Where every spring has the same constant (``graph.k_uniform``) the neighbours' positions
-    are summed and multiplied once, without reading ``kval``: 8% more block-steps per second
-    on a lattice.  Only the stage passes take this branch (every other force is
-    :func:`~faultnet._kernels.integrate.force`): inlined at every call site it would cost
-    compile time.
-    """
+    """Acceleration of block i at stage positions ``pos`` and stage velocity ``v``."""
     den = 1.0 + graph.cfr[i] * v
     if den < 0.5:
         den = 0.5
-    k = graph.k_uniform
-    if k > 0.0:
-        s = 0.0
-        for p in range(graph.indptr[i], graph.indptr[i + 1]):
-            s += W[graph.indices[p], pos]
-        f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
-    else:
-        f = force(i, pos, W, graph)
-    return f - graph.oms[i] / den
+    return force_hot(i, pos, W, graph) - graph.oms[i] / den
 
 
 @kernel
