@@ -25,7 +25,7 @@ __all__ = ["Graph", "Records", "State", "Work"]
 #: - ``oms`` (float64[N]): 1 - sigma, the dynamic friction at rest;
 #: - ``cfr`` (float64[N]): 2 alpha / (1 - sigma), the velocity weakening of the friction;
 #: - ``k_uniform`` (float): the spring constant when every spring has it, else 0.0 (the DP5
-#:   stages then sum the neighbours' positions and multiply once).
+#:   stages and the join scan then sum the neighbours' positions and multiply once).
 Graph = namedtuple("Graph", ["indptr", "indices", "kval", "diag", "oms", "cfr", "k_uniform"])
 
 #: The model's state between events (:mod:`faultnet._kernels.tree`).
