@@ -62,7 +62,9 @@ __all__ = [
     "poly_root",
 ]
 
-# float work columns of W
+# float work columns of W (SV, SA, VS are the RK4 step's; with DP5 the interpolated crossings
+# keep a crossing's fraction of the step in VS, a join's start in SV and SA, a stop's
+# deceleration in SA: faultnet._kernels.interp)
 D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = range(12)
 N_WORK = 12
 # int work rows (all but the first four are used by local regions, faultnet._kernels.local)
