@@ -12,6 +12,7 @@ per coefficient: ``faultnet.accuracy.CALIBRATION`` holds it::
     PYTHONPATH=. python benchmarks/calibrate.py W1 --events 30
     PYTHONPATH=. python benchmarks/calibrate.py W4 W5 W6 --events 150 --treatments interpolated
     PYTHONPATH=. python benchmarks/calibrate.py W4 --treatments interpolated --coefficients 0.3 0.4
+    PYTHONPATH=. python benchmarks/calibrate.py W4 --treatments interpolated --alpha 0.25
 """
 
 from __future__ import annotations
@@ -32,16 +33,20 @@ COEFFICIENTS = {
 }
 
 
-def errors(wid, count, transient_t=2.0, treatments=tuple(COEFFICIENTS), coefficients=None):
+def errors(
+    wid, count, transient_t=2.0, treatments=tuple(COEFFICIENTS), coefficients=None, alpha=None
+):
     """{treatment: {coefficient: p90}} on ``count`` multi-block events of workload ``wid``.
 
-    ``coefficients`` replaces :data:`COEFFICIENTS` for every treatment.
+    ``coefficients`` replaces :data:`COEFFICIENTS` for every treatment; ``alpha`` replaces
+    the workload's alpha (its graph at another alpha).
     """
     import faultnet
     from faultnet.accuracy import StepChoice
     from faultnet.options import omega2_max
 
-    model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=WORKLOADS[wid][1])
+    alpha = WORKLOADS[wid][1] if alpha is None else alpha
+    model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=alpha)
     st, *_ = _warm_state(model, transient_t)
     start = faultnet.State.from_x(st.x - st.u, 0.0)
     states = _pre_event_states(model, start, count, 100 * count)
@@ -84,10 +89,17 @@ def main(argv=None):
         "--treatments", nargs="*", choices=list(COEFFICIENTS), default=list(COEFFICIENTS)
     )
     ap.add_argument("--coefficients", nargs="*", type=float, help="instead of the table's")
+    ap.add_argument("--alpha", type=float, help="instead of each workload's alpha")
     args = ap.parse_args(argv)
     ids = args.ids or sorted(WORKLOADS)
     table = {
-        wid: errors(wid, args.events, treatments=args.treatments, coefficients=args.coefficients)
+        wid: errors(
+            wid,
+            args.events,
+            treatments=args.treatments,
+            coefficients=args.coefficients,
+            alpha=args.alpha,
+        )
         for wid in ids
     }
     for crossings in args.treatments:

@@ -16,7 +16,7 @@ regenerated with::
         --csv data/showcase/summary.csv
 
 Stored run: 8 alpha values x 3 graphs x 3 replicas = 72 points, 40,000 events
-each, the first 10,000 left out of the fits; 65 s of simulation in all, about
+each, the first 10,000 left out of the fits; 59 s of simulation in all, about
 2 minutes wall on one worker process (2-core VM, shared).  The square lattice is
 64 x 64 here (not the paper's 150 x 150) to keep the stored sweep short.
 

@@ -15,7 +15,8 @@ Two crossing treatments (``faultnet._kernels``):
 
 ``CALIBRATION`` holds, per graph class (rings: W1-W3; 2-D graphs: W4-W6) and treatment, the
 90th-percentile error of the class's worst workload per step coefficient (step =
-coefficient / sqrt(omega2_max)), measured by::
+coefficient / sqrt(omega2_max), :func:`faultnet.options.omega2_max`: the top eigenvalue of
+the stiffness matrix plus alpha^2), measured by::
 
     PYTHONPATH=. python benchmarks/calibrate.py      # 60 events per workload
     PYTHONPATH=. python benchmarks/calibrate.py W4 W5 W6 --events 150 --treatments interpolated
@@ -23,27 +24,28 @@ coefficient / sqrt(omega2_max)), measured by::
 ====== ============ ============ ============ ============
 coef    ring exact   ring interp  2-D exact    2-D interp
 ====== ============ ============ ============ ============
-0.03                 1.4e-09                   3.1e-10
-0.05                 9.9e-09                   2.5e-09
-0.07                 4.6e-08                   8.9e-09
-0.10    1.1e-08      1.7e-07      1.3e-09      3.2e-08
-0.15    8.2e-08      6.7e-07      9.5e-09      1.9e-07
-0.20    3.3e-07      2.8e-06      3.6e-08      6.6e-07
-0.30    2.3e-06      9.9e-06      2.2e-07      2.6e-06
-0.40    7.7e-06      5.5e-05      7.4e-07      8.8e-06
-0.50    1.9e-05      1.2e-04      1.7e-06      2.7e-05
-0.60    3.7e-05      4.4e-04      2.9e-06      7.1e-05
-0.80    1.4e-04      4.9e-02      5.2e-06      4.1e-04
+0.03                 1.4e-09                   3.7e-10
+0.05                 9.9e-09                   2.9e-09
+0.07                 4.6e-08                   1.0e-08
+0.10    1.1e-08      1.7e-07      3.0e-09      4.2e-08
+0.15    8.2e-08      6.7e-07      2.1e-08      2.0e-07
+0.20    3.3e-07      2.8e-06      8.1e-08      6.6e-07
+0.30    2.3e-06      9.9e-06      4.8e-07      3.1e-06
+0.40    7.7e-06      5.5e-05      1.5e-06      9.3e-06
+0.50    1.9e-05      1.2e-04      3.4e-06      3.5e-05
+0.60    3.7e-05      4.4e-04      4.8e-06      7.1e-05
+0.80    1.4e-04      4.9e-02      5.5e-06      4.1e-04
 ====== ============ ============ ============ ============
 
 The 2-D interpolated column is from 150 events per workload (its 90th percentiles from 60
-events varied by up to a factor 1.8).  With 300 events per workload, at the settings below,
-the 90th percentiles are 2.3e-7 to 4.2e-7 at rtol 1e-6 and 6.3e-6 to 9.5e-6 at 2e-5 (W4-W6).
-Events of 10 or more blocks (13-20% of the multi-block events) are less accurate than that
-90th percentile says: their own 90th percentile is 2.1e-6 to 4.0e-6 at rtol 1e-6 and
-1.4e-5 to 7.5e-5 at 2e-5, and a few of them (a block that reaches the threshold by a hair,
-or not) are off by up to 1e-4 and 1.4e-3.  The exact treatment keeps them within 2-3 times
-its small events' error; where the largest events matter most, use it
+events varied by up to a factor 1.8).  With 300 events per workload (400 on W6), at the
+settings below, the 90th percentiles are 2.4e-7 to 4.5e-7 at rtol 1e-6 and 8.0e-6 to 1.3e-5
+at 2e-5 (W4-W6).  Events of 10 or more blocks (14-19% of the multi-block events) are less
+accurate than that 90th percentile says: their own 90th percentile is 1.3e-6 to 6.7e-6 at
+rtol 1e-6 and 2.0e-5 to 8.6e-5 at 2e-5 (the triangular cluster W6 the worst), and a few of
+them (a block that reaches the threshold by a hair, or not) are off by up to 1.2e-4 at rtol
+1e-6 and, at 2e-5, 8e-4, with one W4 event of 300 off by 8%.  The exact treatment keeps
+them within 2-3 times its small events' error; where the largest events matter most, use it
 (``RunOptions(crossings="exact")``) or a smaller rtol.  ``benchmarks/calibrate.py`` prints
 their error next to the table's.
 For each treatment the coefficient is read off its
@@ -55,11 +57,11 @@ Resulting settings:
 ========= ============================ ================================
 rtol       rings (mean degree <= 2.5)   2-D graphs
 ========= ============================ ================================
-1e-8       exact 0.094                  interpolated 0.060
-1e-7       exact 0.149                  interpolated 0.111
-1e-6       exact 0.241                  interpolated 0.188
-2e-5       exact 0.479                  interpolated 0.410
-1e-4       exact 0.709                  interpolated 0.562
+1e-8       exact 0.094                  interpolated 0.058
+1e-7       exact 0.149                  interpolated 0.105
+1e-6       exact 0.241                  interpolated 0.187
+2e-5       exact 0.479                  interpolated 0.405
+1e-4       exact 0.709                  interpolated 0.548
 ========= ============================ ================================
 """
 
@@ -123,25 +125,25 @@ CALIBRATION = {
     },
     "2-D": {
         "exact": (
-            (0.1, 1.3e-09),
-            (0.15, 9.5e-09),
-            (0.2, 3.6e-08),
-            (0.3, 2.2e-07),
-            (0.4, 7.4e-07),
-            (0.5, 1.7e-06),
-            (0.6, 2.9e-06),
-            (0.8, 5.2e-06),
+            (0.1, 3.0e-09),
+            (0.15, 2.1e-08),
+            (0.2, 8.1e-08),
+            (0.3, 4.8e-07),
+            (0.4, 1.5e-06),
+            (0.5, 3.4e-06),
+            (0.6, 4.8e-06),
+            (0.8, 5.5e-06),
         ),
         "interpolated": (
-            (0.03, 3.1e-10),
-            (0.05, 2.5e-09),
-            (0.07, 8.9e-09),
-            (0.1, 3.2e-08),
-            (0.15, 1.9e-07),
+            (0.03, 3.7e-10),
+            (0.05, 2.9e-09),
+            (0.07, 1.0e-08),
+            (0.1, 4.2e-08),
+            (0.15, 2.0e-07),
             (0.2, 6.6e-07),
-            (0.3, 2.6e-06),
-            (0.4, 8.8e-06),
-            (0.5, 2.7e-05),
+            (0.3, 3.1e-06),
+            (0.4, 9.3e-06),
+            (0.5, 3.5e-05),
             (0.6, 7.1e-05),
             (0.8, 4.1e-04),
         ),
@@ -217,7 +219,7 @@ def step_for_rtol(model, rtol, method="dopri5"):
     >>> lattice = faultnet.CarlsonLanger(grid, k=16, sigma=0.01, alpha=1.0)
     >>> s = step_for_rtol(lattice, 2e-5)
     >>> s.crossings, round(s.coefficient, 3)
-    ('interpolated', 0.41)
+    ('interpolated', 0.405)
     >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16, sigma=0.01, alpha=1.0)
     >>> step_for_rtol(ring, 2e-5).crossings
     'exact'

@@ -279,6 +279,21 @@ class CarlsonLanger:
         return 1.0 + np.asarray(self.adjacency.sum(axis=1)).ravel()
 
     @cached_property
+    def top_stiffness(self) -> float:
+        """Largest eigenvalue of the stiffness matrix ``I + L``, estimated from above.
+
+        It sets the scale of the step inside events (see :mod:`faultnet._spectrum`).
+        Computed once.
+
+        >>> import faultnet
+        >>> faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16).top_stiffness
+        65.0
+        """
+        from faultnet._spectrum import top_stiffness
+
+        return top_stiffness(self.adjacency)
+
+    @cached_property
     def block_classes(self) -> np.ndarray:
         """Class index per block: blocks with equal stiffness, sigma and alpha share one.
 

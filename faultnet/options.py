@@ -59,14 +59,19 @@ MAX_STEPS_PER_EVENT = 1e9
 
 
 def omega2_max(model) -> float:
-    """Gershgorin bound on the squared top frequency, plus the alpha growth rate.
+    """The squared top frequency, plus the alpha growth rate: the step's scale.
 
-    ``max_i (1 + 2 sum_j k_ij) + max_i alpha_i^2``: the largest eigenvalue of
-    the dynamical matrix ``L + I`` is at most the first term; the second
-    accounts for the growth rate of the negative damping ``2 alpha``.
+    ``model.top_stiffness + max_i alpha_i^2``: the first term is the largest
+    eigenvalue of the stiffness matrix ``I + L`` (estimated from above, at most
+    Gershgorin's bound ``max_i (1 + 2 sum_j k_ij)``; :mod:`faultnet._spectrum`);
+    the second accounts for the growth rate of the negative damping ``2 alpha``.
+
+    >>> import faultnet
+    >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16, alpha=1.0)
+    >>> omega2_max(ring)
+    66.0
     """
-    deg = np.asarray(model.adjacency.sum(axis=1)).ravel()
-    return float(np.max(1.0 + 2.0 * deg) + np.max(model.alpha_values) ** 2)
+    return float(model.top_stiffness + np.max(model.alpha_values) ** 2)
 
 
 def _check_method(method):
