@@ -16,6 +16,7 @@ from faultnet._version import __version__
 # nothing, and a Ctrl-C while the command line starts lands in its own handler
 # (``faultnet.__main__``) instead of in the middle of this file's imports.
 _LAZY = {
+    "AccuracyWarning": "faultnet.exceptions",
     "BFit": "faultnet.stats",
     "CarlsonLanger": "faultnet.model",
     "EventTooLongError": "faultnet.exceptions",
@@ -67,6 +68,7 @@ def __dir__():
 
 __all__ = [
     "__version__",
+    "AccuracyWarning",
     "BFit",
     "CarlsonLanger",
     "SparseGraph",

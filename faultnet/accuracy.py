@@ -20,6 +20,11 @@ the stiffness matrix plus alpha^2), measured by::
 
     PYTHONPATH=. python benchmarks/calibrate.py      # 60 events per workload
     PYTHONPATH=. python benchmarks/calibrate.py W4 W5 W6 --events 150 --treatments interpolated
+    PYTHONPATH=. python benchmarks/calibrate.py W4 --treatments exact --alpha 3
+    PYTHONPATH=. python benchmarks/calibrate.py W1 --events 100 --treatments exact --alpha 3
+
+(the 2-D exact column also takes the periodic lattice W4 at alpha 0.25, 2 and 3; see
+:data:`ALPHA_RANGE` and :data:`HIGH_ALPHA` for alpha)
 
 ====== ============ ============ ============ ============
 coef    ring exact   ring interp  2-D exact    2-D interp
@@ -32,9 +37,9 @@ coef    ring exact   ring interp  2-D exact    2-D interp
 0.20    3.3e-07      2.8e-06      8.1e-08      6.6e-07
 0.30    2.3e-06      9.9e-06      4.8e-07      3.1e-06
 0.40    7.7e-06      5.5e-05      1.5e-06      9.3e-06
-0.50    1.9e-05      1.2e-04      3.4e-06      3.5e-05
-0.60    3.7e-05      4.4e-04      4.8e-06      7.1e-05
-0.80    1.4e-04      4.9e-02      5.5e-06      4.1e-04
+0.50    1.9e-05      1.2e-04      5.1e-06      3.5e-05
+0.60    3.7e-05      4.4e-04      1.4e-05      7.1e-05
+0.80    1.4e-04      4.9e-02      5.9e-05      4.1e-04
 ====== ============ ============ ============ ============
 
 The 2-D interpolated column is from 150 events per workload (its 90th percentiles from 60
@@ -48,32 +53,55 @@ them (a block that reaches the threshold by a hair, or not) are off by up to 1.2
 them within 2-3 times its small events' error; where the largest events matter most, use it
 (``RunOptions(crossings="exact")``) or a smaller rtol.  ``benchmarks/calibrate.py`` prints
 their error next to the table's.
-For each treatment the coefficient is read off its
-column (log-log between the rows, the scheme's order below the first) at ``rtol / SAFETY``;
-the interpolated treatment is chosen when its step is at least ``SWITCH`` times the exact
-one's (rings 0.7, 2-D graphs 0.3: where it is then the faster, see :data:`SWITCH`).
-Resulting settings:
 
-========= ============================ ================================
-rtol       rings (mean degree <= 2.5)   2-D graphs
-========= ============================ ================================
-1e-8       exact 0.094                  interpolated 0.058
-1e-7       exact 0.149                  interpolated 0.105
-1e-6       exact 0.241                  interpolated 0.187
-2e-5       exact 0.479                  interpolated 0.405
-1e-4       exact 0.709                  interpolated 0.548
-========= ============================ ================================
+The error depends on alpha too.  Each column holds over the alpha range of
+:data:`ALPHA_RANGE` (measured with ``calibrate.py --alpha``): rings 0.1-2.5 with exact
+crossings (0.25-2 interpolated), 2-D graphs 0.25-3.  On rings the error at alpha 3 and 4 is
+2-5 times that at alpha 2 (at coefficient 0.479: 3.5e-5 and 3.3e-5 against 8.4e-6, and
+1.7e-5 at alpha 2.5 and 5), so rings from alpha 2.5 to 5 have their own column
+(:data:`HIGH_ALPHA`).  A model whose blocks' alphas meet several columns' ranges takes the
+worst of them; outside every range it gets the nearest one and an
+:class:`~faultnet.exceptions.AccuracyWarning`.
+
+For each treatment the coefficient is read off its column (log-log between the rows, the
+scheme's order below the first) at ``rtol / SAFETY``; the interpolated treatment is chosen
+when its step is at least ``SWITCH`` times the exact one's (rings 0.7, 2-D graphs 0.3: where
+it is then the faster, see :data:`SWITCH`) and its column covers the model's alpha.  An
+explicit ``crossings=`` takes that treatment's own coefficient.  Resulting settings:
+
+========= ================ ================ ================
+rtol       rings, alpha      rings, alpha     2-D graphs
+           0.1 to 2.5        2.5 to 5
+========= ================ ================ ================
+1e-8       exact 0.094       exact 0.094      interpolated 0.058
+1e-7       exact 0.149       exact 0.148      interpolated 0.105
+1e-6       exact 0.241       exact 0.231      interpolated 0.187
+2e-5       exact 0.479       exact 0.400      interpolated 0.405
+1e-4       exact 0.709       exact 0.536      interpolated 0.548
+========= ================ ================ ================
 """
 
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
-from faultnet.exceptions import InvalidParameterError
+import numpy as np
+
+from faultnet.exceptions import AccuracyWarning, InvalidParameterError
 from faultnet.options import CROSSINGS
 
-__all__ = ["CALIBRATION", "CROSSINGS", "RTOL_RANGE", "StepChoice", "graph_class", "step_for_rtol"]
+__all__ = [
+    "ALPHA_RANGE",
+    "CALIBRATION",
+    "CROSSINGS",
+    "HIGH_ALPHA",
+    "RTOL_RANGE",
+    "StepChoice",
+    "graph_class",
+    "step_for_rtol",
+]
 
 #: the calibrated range of rtol
 RTOL_RANGE = (1e-8, 1e-4)
@@ -130,9 +158,9 @@ CALIBRATION = {
             (0.2, 8.1e-08),
             (0.3, 4.8e-07),
             (0.4, 1.5e-06),
-            (0.5, 3.4e-06),
-            (0.6, 4.8e-06),
-            (0.8, 5.5e-06),
+            (0.5, 5.1e-06),
+            (0.6, 1.4e-05),
+            (0.8, 5.9e-05),
         ),
         "interpolated": (
             (0.03, 3.7e-10),
@@ -148,6 +176,35 @@ CALIBRATION = {
             (0.8, 4.1e-04),
         ),
     },
+}
+
+
+#: the alpha range each column of :data:`CALIBRATION` holds for (its workloads, and checks at
+#: the ends: rings at alpha 0.1, 0.5, 0.75, 1.5 and 2.5 lie within the ring column; the periodic
+#: 150^2 lattice at alpha 0.25, 2 and 3 within the 2-D interpolated column; the 2-D exact
+#: column is the worst of W4-W6 and that lattice at alpha 0.25, 2 and 3, which from
+#: coefficient 0.5 on have up to 10 times the error of alpha 1)
+ALPHA_RANGE = {
+    "ring": {"exact": (0.1, 2.5), "interpolated": (0.25, 2.0)},
+    "2-D": {"exact": (0.25, 3.0), "interpolated": (0.25, 3.0)},
+}
+#: further columns for larger alpha, ``(class, treatment): ((lowest, highest alpha), rows)``,
+#: on the coefficients of the class's column: the ring at alpha 3 and 4 (100 events each, the
+#: worst of the two per row; alpha 2.5 and 5 lie below it) has 2-5 times the error of alpha 2
+HIGH_ALPHA = {
+    ("ring", "exact"): (
+        (2.5, 5.0),
+        (
+            (0.1, 1.1e-08),
+            (0.15, 8.6e-08),
+            (0.2, 3.7e-07),
+            (0.3, 3.2e-06),
+            (0.4, 1.6e-05),
+            (0.5, 5.4e-05),
+            (0.6, 1.5e-04),
+            (0.8, 6.3e-04),
+        ),
+    ),
 }
 
 
@@ -178,9 +235,26 @@ class StepChoice:
     method: str = "dopri5"
 
 
-def _coefficient(cls, crossings, target):
+def _columns(cls, crossings, alpha):
+    """The calibrated rows for the alpha range ``alpha`` = (lowest, highest) of a model.
+
+    Returns ``(rows, covered)``: the worst row over every alpha band the range meets, and
+    the alpha range the bands span (a range outside it is clamped to it).
+    """
+    bands = [(ALPHA_RANGE[cls][crossings], CALIBRATION[cls][crossings])]
+    if (cls, crossings) in HIGH_ALPHA:
+        bands.append(HIGH_ALPHA[cls, crossings])
+    covered = (min(b[0][0] for b in bands), max(b[0][1] for b in bands))
+    lo, hi = (min(max(a, covered[0]), covered[1]) for a in alpha)
+    columns = [rows for (a, b), rows in bands if a <= hi and b >= lo]
+    rows = tuple(
+        (c, max(column[i][1] for column in columns)) for i, (c, _) in enumerate(columns[0])
+    )
+    return rows, covered
+
+
+def _coefficient(rows, crossings, target):
     """Largest coefficient whose calibrated error is <= target (log-log between the rows)."""
-    rows = CALIBRATION[cls][crossings]
     c0, e0 = rows[0]
     if target <= e0:
         return c0 * (target / e0) ** (1.0 / ORDER[crossings])
@@ -194,7 +268,7 @@ def _coefficient(cls, crossings, target):
     return best
 
 
-def step_for_rtol(model, rtol, method="dopri5"):
+def step_for_rtol(model, rtol, method="dopri5", crossings=None):
     """Integration settings whose typical event slip is within ``rtol`` (relative).
 
     Parameters
@@ -206,6 +280,9 @@ def step_for_rtol(model, rtol, method="dopri5"):
         events), between 1e-8 and 1e-4.
     method : {"dopri5"}
         The calibrated scheme.
+    crossings : {None, "exact", "interpolated"}
+        The crossing treatment; None picks the faster one at ``rtol`` (see the module's
+        text).  Each has its own step: the interpolated treatment needs a shorter one.
 
     Returns
     -------
@@ -223,6 +300,8 @@ def step_for_rtol(model, rtol, method="dopri5"):
     >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16, sigma=0.01, alpha=1.0)
     >>> step_for_rtol(ring, 2e-5).crossings
     'exact'
+    >>> round(step_for_rtol(ring, 2e-5, crossings="interpolated").coefficient, 3)
+    0.241
     >>> step_for_rtol(lattice, 1e-3)
     Traceback (most recent call last):
     ...
@@ -242,9 +321,41 @@ def step_for_rtol(model, rtol, method="dopri5"):
         raise InvalidParameterError(
             f"rtol must be between {RTOL_RANGE[0]:g} and {RTOL_RANGE[1]:g}; got {rtol!r}"
         )
+    if crossings is not None and crossings not in CROSSINGS:
+        raise InvalidParameterError(
+            f"crossings must be one of {list(CROSSINGS)} or None; got {crossings!r}"
+        )
     cls = graph_class(model)
-    exact = _coefficient(cls, "exact", rtol / SAFETY[cls]["exact"])
-    interp = _coefficient(cls, "interpolated", rtol / SAFETY[cls]["interpolated"])
-    switch = SWITCH[cls]
-    crossings, coef = ("interpolated", interp) if interp >= switch * exact else ("exact", exact)
+    alpha = (float(np.min(model.alpha_values)), float(np.max(model.alpha_values)))
+    coefs, inside = {}, {}
+    for treatment in CROSSINGS:
+        rows, covered = _columns(cls, treatment, alpha)
+        coefs[treatment] = _coefficient(rows, treatment, rtol / SAFETY[cls][treatment])
+        inside[treatment] = covered[0] <= alpha[0] and alpha[1] <= covered[1]
+    if crossings is None:
+        faster = (
+            "interpolated" if coefs["interpolated"] >= SWITCH[cls] * coefs["exact"] else "exact"
+        )
+        other = "exact" if faster == "interpolated" else "interpolated"
+        # the faster treatment, unless only the other one is calibrated at this alpha
+        crossings = other if inside[other] and not inside[faster] else faster
+    if not inside[crossings] and model.adjacency.nnz:  # without springs every event is solo
+        _warn_outside(cls, crossings, alpha)
+    coef = coefs[crossings]
     return StepChoice(coef / math.sqrt(omega2_max(model)), coef, crossings, method)
+
+
+def _warn_outside(cls, crossings, alpha):
+    lo, hi = _columns(cls, crossings, alpha)[1]
+    have = (
+        f"alpha = {alpha[0]:g}"
+        if alpha[0] == alpha[1]
+        else f"alpha in [{alpha[0]:g}, {alpha[1]:g}]"
+    )
+    warnings.warn(
+        f"rtol is calibrated on {cls} graphs with {crossings} crossings for alpha in "
+        f"[{lo:g}, {hi:g}]; this model has {have}, so its slip errors may exceed rtol "
+        "(the step is that of the nearest calibrated alpha; pass dt= to choose one)",
+        AccuracyWarning,
+        stacklevel=3,
+    )

@@ -10,6 +10,7 @@ exception a caller would expect (``ValueError`` for a bad argument,
 """
 
 __all__ = [
+    "AccuracyWarning",
     "CatalogError",
     "ConfigError",
     "EventTooLongError",
@@ -70,3 +71,8 @@ class SweepError(FaultnetError, RuntimeError):
     def __init__(self, message, summary=None):
         super().__init__(message)
         self.summary = summary
+
+
+class AccuracyWarning(UserWarning):
+    """A run whose accuracy faultnet cannot vouch for (for example ``rtol`` outside the
+    parameters its calibration was measured at)."""

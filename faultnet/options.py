@@ -224,7 +224,7 @@ class RunOptions:
     def _calibrated(self, model):
         from faultnet.accuracy import step_for_rtol
 
-        return step_for_rtol(model, self.rtol, self.method)
+        return step_for_rtol(model, self.rtol, self.method, self.crossings)
 
     def treatment(self, model) -> str:
         """The crossing treatment of a run of ``model``: ``"exact"`` or ``"interpolated"``."""

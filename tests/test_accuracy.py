@@ -6,6 +6,8 @@ at alpha 1 (the workloads' ring, smaller) and a periodic 12^2 lattice, 24 consec
 multi-block events each, every event run alone from its own pre-event state.
 """
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -91,3 +93,54 @@ def test_crossings_value_checked():
         faultnet.RunOptions(crossings="interpolated", method="rk4")
     with pytest.raises(InvalidParameterError, match="rtol must be between"):
         faultnet.simulate(_model("ring"), 1, rng=1, progress=False, rtol=1e-3)
+
+
+def test_high_alpha_ring_within_rtol():
+    """Rings at alpha 3 have 2-5 times the error of alpha <= 2.5 at one step: their own
+    calibration column (``HIGH_ALPHA``) keeps them within rtol, the lower one would not."""
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(600), k=16, sigma=0.01, alpha=3.0)
+    state = faultnet.simulate(model, 3000, rng=7, progress=False).state
+    states = []
+    while len(states) < 40:
+        res = faultnet.simulate(model, 1, x0=state, progress=False)
+        if int(res.events.n_blocks.iloc[0]) > 1:
+            states.append(state)
+        state = res.state
+    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact", float("inf"))
+    low = step_for_rtol(faultnet.CarlsonLanger(faultnet.graphs.ring(600), alpha=2.0), 2e-5)
+    choice = step_for_rtol(model, 2e-5)
+    assert choice.coefficient < low.coefficient
+    for coef, within in ((choice.coefficient, True), (low.coefficient, False)):
+        S = _slips(model, states, coef / omega2_max(model) ** 0.5, "exact")
+        err = np.quantile(np.abs(S / ref - 1.0), 0.9)
+        assert (err <= 2e-5) == within, (coef, err)
+
+
+def test_alpha_bands_and_warning():
+    ring = faultnet.graphs.ring(100)
+    coef = {a: step_for_rtol(faultnet.CarlsonLanger(ring, alpha=a), 2e-5).coefficient
+            for a in (0.1, 1.0, 2.5, 3.0, 5.0)}  # fmt: skip
+    assert coef[0.1] == coef[1.0] > coef[2.5] == coef[3.0] == coef[5.0]
+    # a model whose blocks span both bands takes the worse one
+    g = faultnet.graphs.ring(100)
+    for i in range(50):
+        g.nodes[i]["alpha"] = 3.0
+    mixed = faultnet.CarlsonLanger(g, alpha=1.0)
+    assert step_for_rtol(mixed, 2e-5).coefficient == coef[3.0]
+    # outside every band: the nearest band's step, with a warning that names the range
+    with pytest.warns(faultnet.AccuracyWarning, match=r"alpha in \[0.1, 5\].*alpha = 6"):
+        far = step_for_rtol(faultnet.CarlsonLanger(ring, alpha=6.0), 2e-5)
+    assert far.coefficient == coef[5.0]
+    with warnings.catch_warnings():  # one block: every event is a solo slip, nothing to warn
+        warnings.simplefilter("error")
+        step_for_rtol(faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=0.0), 2e-5)
+    lattice = faultnet.graphs.square_lattice(8, 8, periodic=True)
+    with pytest.warns(faultnet.AccuracyWarning, match="2-D graphs with interpolated"):
+        step_for_rtol(faultnet.CarlsonLanger(lattice, alpha=0.1), 1e-6)
+
+
+def test_alpha_band_columns_share_the_coefficients():
+    from faultnet.accuracy import CALIBRATION, HIGH_ALPHA
+
+    for (cls, crossings), (_, rows) in HIGH_ALPHA.items():
+        assert [c for c, _ in rows] == [c for c, _ in CALIBRATION[cls][crossings]]

@@ -51,6 +51,17 @@ def test_step_resolution():
     with pytest.raises(InvalidParameterError, match="calibrated for method 'dopri5'"):
         RunOptions(method="rk4", rtol=1e-5)
     assert RunOptions(dt=1e-3).step(model) == 1e-3
+    # a chosen treatment runs at its own calibrated step, not the other one's
+    for crossings in ("exact", "interpolated"):
+        own = step_for_rtol(model, 2e-5, crossings=crossings)
+        opts = RunOptions(rtol=2e-5, crossings=crossings)
+        assert (opts.step(model), opts.treatment(model)) == (own.dt, crossings)
+    assert (
+        step_for_rtol(model, 2e-5, crossings="interpolated").dt
+        < step_for_rtol(model, 2e-5, crossings="exact").dt
+    )
+    with pytest.raises(InvalidParameterError, match="crossings must be one of"):
+        step_for_rtol(model, 1e-6, crossings="linear")
     with pytest.raises(InvalidParameterError, match="stability limit"):
         RunOptions(dt=1.0).step(model)
     # a step that cannot finish an event in a bounded number of steps is refused
