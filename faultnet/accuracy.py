@@ -23,8 +23,8 @@ the stiffness matrix plus alpha^2), measured by::
     PYTHONPATH=. python benchmarks/calibrate.py W4 --treatments exact --alpha 3
     PYTHONPATH=. python benchmarks/calibrate.py W1 --events 100 --treatments exact --alpha 3
 
-(the 2-D exact column also takes the periodic lattice W4 at alpha 0.25, 2 and 3; see
-:data:`ALPHA_RANGE` and :data:`HIGH_ALPHA` for alpha)
+(each column's text below :data:`CALIBRATION` names the workloads and alphas it is the
+worst of)
 
 ====== ============ ============ ============ ============
 coef    ring exact   ring interp  2-D exact    2-D interp
@@ -54,13 +54,14 @@ them within 2-3 times its small events' error; where the largest events matter m
 (``RunOptions(crossings="exact")``) or a smaller rtol.  ``benchmarks/calibrate.py`` prints
 their error next to the table's.
 
-The error depends on alpha too.  Each column holds over the alpha range of
-:data:`ALPHA_RANGE` (measured with ``calibrate.py --alpha``): rings 0.1-2.5 with exact
-crossings (0.25-2 interpolated), 2-D graphs 0.25-3.  On rings the error at alpha 3 and 4 is
-2-5 times that at alpha 2 (at coefficient 0.479: 3.5e-5 and 3.3e-5 against 8.4e-6, and
-1.7e-5 at alpha 2.5 and 5), so rings from alpha 2.5 to 5 have their own column
-(:data:`HIGH_ALPHA`).  A model whose blocks' alphas meet several columns' ranges takes the
-worst of them; outside every range it gets the nearest one and an
+The error depends on alpha too, and each column holds over a measured alpha band
+(``calibrate.py W1 --alpha A``; :data:`CALIBRATION`).  At coefficient 0.479 the ring's
+error is 1.6e-5 at alpha 0.1, 1.5e-5 at 0.25, 8.5e-6 at 0.5, 6.2e-6 at 0.75, 3.5e-6 at 1,
+3.2e-6 at 1.5, 8.4e-6 at 2, 1.7e-5 at 2.5, 3.5e-5 at 3, 3.3e-5 at 4 and 1.7e-5 at 5, so
+rings have two bands: 0.1-2.5 (the W1-W3 column) and 2.5-5 (2-5 times its error).  2-D
+graphs have one, 0.25-3 (the periodic lattice at alpha 0.25, 2 and 3 lies on the
+interpolated column).  A model whose blocks' alphas meet several bands takes the worst of
+them; outside every band it gets the nearest one and an
 :class:`~faultnet.exceptions.AccuracyWarning`.
 
 For each treatment the coefficient is read off its column (log-log between the rows, the
@@ -69,16 +70,15 @@ when its step is at least ``SWITCH`` times the exact one's (rings 0.7, 2-D graph
 it is then the faster, see :data:`SWITCH`) and its column covers the model's alpha.  An
 explicit ``crossings=`` takes that treatment's own coefficient.  Resulting settings:
 
-========= ================ ================ ================
-rtol       rings, alpha      rings, alpha     2-D graphs
-           0.1 to 2.5        2.5 to 5
-========= ================ ================ ================
-1e-8       exact 0.094       exact 0.094      interpolated 0.058
-1e-7       exact 0.149       exact 0.148      interpolated 0.105
-1e-6       exact 0.241       exact 0.231      interpolated 0.187
-2e-5       exact 0.479       exact 0.400      interpolated 0.405
-1e-4       exact 0.709       exact 0.536      interpolated 0.548
-========= ================ ================ ================
+====== ==================== ==================== ========================
+rtol   rings, alpha 0.1-2.5 rings, alpha 2.5-5   2-D graphs
+====== ==================== ==================== ========================
+1e-8   exact 0.094          exact 0.094          interpolated 0.058
+1e-7   exact 0.149          exact 0.148          interpolated 0.105
+1e-6   exact 0.241          exact 0.231          interpolated 0.187
+2e-5   exact 0.479          exact 0.400          interpolated 0.405
+1e-4   exact 0.709          exact 0.536          interpolated 0.548
+====== ==================== ==================== ========================
 """
 
 from __future__ import annotations
@@ -93,10 +93,8 @@ from faultnet.exceptions import AccuracyWarning, InvalidParameterError
 from faultnet.options import CROSSINGS
 
 __all__ = [
-    "ALPHA_RANGE",
     "CALIBRATION",
     "CROSSINGS",
-    "HIGH_ALPHA",
     "RTOL_RANGE",
     "StepChoice",
     "graph_class",
@@ -123,88 +121,83 @@ SAFETY = {
 SWITCH = {"ring": 0.7, "2-D": 0.3}
 #: order of the S error in the step, used below the first row of the table
 ORDER = {"exact": 5.0, "interpolated": 4.0}
-#: (coefficient, 90th-percentile S error of the worst workload of the class), from
-#: ``benchmarks/calibrate.py``: rings W1-W3, 2-D graphs W4-W6
+#: (coefficient, 90th-percentile S error) columns from ``benchmarks/calibrate.py``.
+#: Rings, exact: the worst of W1-W3 (alpha 0.25, 1, 2; alpha 0.1 and 2.5 lie on it)
+_RING_EXACT = (
+    (0.1, 1.1e-08),
+    (0.15, 8.2e-08),
+    (0.2, 3.3e-07),
+    (0.3, 2.3e-06),
+    (0.4, 7.7e-06),
+    (0.5, 1.9e-05),
+    (0.6, 3.7e-05),
+    (0.8, 1.4e-04),
+)
+#: rings, exact, alpha 2.5 to 5: the worst of alpha 3 and 4 (alpha 2.5 and 5 lie below it),
+#: 2-5 times the error of alpha 2
+_RING_EXACT_HIGH = (
+    (0.1, 1.1e-08),
+    (0.15, 8.6e-08),
+    (0.2, 3.7e-07),
+    (0.3, 3.2e-06),
+    (0.4, 1.6e-05),
+    (0.5, 5.4e-05),
+    (0.6, 1.5e-04),
+    (0.8, 6.3e-04),
+)
+#: rings, interpolated: the worst of W1-W3
+_RING_INTERPOLATED = (
+    (0.03, 1.4e-09),
+    (0.05, 9.9e-09),
+    (0.07, 4.6e-08),
+    (0.1, 1.7e-07),
+    (0.15, 6.7e-07),
+    (0.2, 2.8e-06),
+    (0.3, 9.9e-06),
+    (0.4, 5.5e-05),
+    (0.5, 1.2e-04),
+    (0.6, 4.4e-04),
+    (0.8, 4.9e-02),
+)
+#: 2-D graphs, exact: the worst of W4-W6 and the periodic 150^2 lattice at alpha 0.25, 2 and
+#: 3 (which from coefficient 0.5 on have up to 10 times the error of alpha 1)
+_2D_EXACT = (
+    (0.1, 3.0e-09),
+    (0.15, 2.1e-08),
+    (0.2, 8.1e-08),
+    (0.3, 4.8e-07),
+    (0.4, 1.5e-06),
+    (0.5, 5.1e-06),
+    (0.6, 1.4e-05),
+    (0.8, 5.9e-05),
+)
+#: 2-D graphs, interpolated: the worst of W4-W6 (150 events each); the periodic 150^2 lattice
+#: at alpha 0.25, 2 and 3 lies on it
+_2D_INTERPOLATED = (
+    (0.03, 3.7e-10),
+    (0.05, 2.9e-09),
+    (0.07, 1.0e-08),
+    (0.1, 4.2e-08),
+    (0.15, 2.0e-07),
+    (0.2, 6.6e-07),
+    (0.3, 3.1e-06),
+    (0.4, 9.3e-06),
+    (0.5, 3.5e-05),
+    (0.6, 7.1e-05),
+    (0.8, 4.1e-04),
+)
+#: per graph class and treatment, the alpha bands ``((lowest, highest alpha), column)``; a
+#: model takes the worst column of every band its blocks' alpha range meets (bands share
+#: their ends, so alpha 2.5 takes the stricter neighbour)
 CALIBRATION = {
     "ring": {
-        "exact": (
-            (0.1, 1.1e-08),
-            (0.15, 8.2e-08),
-            (0.2, 3.3e-07),
-            (0.3, 2.3e-06),
-            (0.4, 7.7e-06),
-            (0.5, 1.9e-05),
-            (0.6, 3.7e-05),
-            (0.8, 1.4e-04),
-        ),
-        "interpolated": (
-            (0.03, 1.4e-09),
-            (0.05, 9.9e-09),
-            (0.07, 4.6e-08),
-            (0.1, 1.7e-07),
-            (0.15, 6.7e-07),
-            (0.2, 2.8e-06),
-            (0.3, 9.9e-06),
-            (0.4, 5.5e-05),
-            (0.5, 1.2e-04),
-            (0.6, 4.4e-04),
-            (0.8, 4.9e-02),
-        ),
+        "exact": (((0.1, 2.5), _RING_EXACT), ((2.5, 5.0), _RING_EXACT_HIGH)),
+        "interpolated": (((0.25, 2.0), _RING_INTERPOLATED),),
     },
     "2-D": {
-        "exact": (
-            (0.1, 3.0e-09),
-            (0.15, 2.1e-08),
-            (0.2, 8.1e-08),
-            (0.3, 4.8e-07),
-            (0.4, 1.5e-06),
-            (0.5, 5.1e-06),
-            (0.6, 1.4e-05),
-            (0.8, 5.9e-05),
-        ),
-        "interpolated": (
-            (0.03, 3.7e-10),
-            (0.05, 2.9e-09),
-            (0.07, 1.0e-08),
-            (0.1, 4.2e-08),
-            (0.15, 2.0e-07),
-            (0.2, 6.6e-07),
-            (0.3, 3.1e-06),
-            (0.4, 9.3e-06),
-            (0.5, 3.5e-05),
-            (0.6, 7.1e-05),
-            (0.8, 4.1e-04),
-        ),
+        "exact": (((0.25, 3.0), _2D_EXACT),),
+        "interpolated": (((0.25, 3.0), _2D_INTERPOLATED),),
     },
-}
-
-
-#: the alpha range each column of :data:`CALIBRATION` holds for (its workloads, and checks at
-#: the ends: rings at alpha 0.1, 0.5, 0.75, 1.5 and 2.5 lie within the ring column; the periodic
-#: 150^2 lattice at alpha 0.25, 2 and 3 within the 2-D interpolated column; the 2-D exact
-#: column is the worst of W4-W6 and that lattice at alpha 0.25, 2 and 3, which from
-#: coefficient 0.5 on have up to 10 times the error of alpha 1)
-ALPHA_RANGE = {
-    "ring": {"exact": (0.1, 2.5), "interpolated": (0.25, 2.0)},
-    "2-D": {"exact": (0.25, 3.0), "interpolated": (0.25, 3.0)},
-}
-#: further columns for larger alpha, ``(class, treatment): ((lowest, highest alpha), rows)``,
-#: on the coefficients of the class's column: the ring at alpha 3 and 4 (100 events each, the
-#: worst of the two per row; alpha 2.5 and 5 lie below it) has 2-5 times the error of alpha 2
-HIGH_ALPHA = {
-    ("ring", "exact"): (
-        (2.5, 5.0),
-        (
-            (0.1, 1.1e-08),
-            (0.15, 8.6e-08),
-            (0.2, 3.7e-07),
-            (0.3, 3.2e-06),
-            (0.4, 1.6e-05),
-            (0.5, 5.4e-05),
-            (0.6, 1.5e-04),
-            (0.8, 6.3e-04),
-        ),
-    ),
 }
 
 
@@ -241,9 +234,7 @@ def _columns(cls, crossings, alpha):
     Returns ``(rows, covered)``: the worst row over every alpha band the range meets, and
     the alpha range the bands span (a range outside it is clamped to it).
     """
-    bands = [(ALPHA_RANGE[cls][crossings], CALIBRATION[cls][crossings])]
-    if (cls, crossings) in HIGH_ALPHA:
-        bands.append(HIGH_ALPHA[cls, crossings])
+    bands = CALIBRATION[cls][crossings]
     covered = (min(b[0][0] for b in bands), max(b[0][1] for b in bands))
     lo, hi = (min(max(a, covered[0]), covered[1]) for a in alpha)
     columns = [rows for (a, b), rows in bands if a <= hi and b >= lo]
@@ -347,15 +338,11 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
 
 def _warn_outside(cls, crossings, alpha):
     lo, hi = _columns(cls, crossings, alpha)[1]
-    have = (
-        f"alpha = {alpha[0]:g}"
-        if alpha[0] == alpha[1]
-        else f"alpha in [{alpha[0]:g}, {alpha[1]:g}]"
-    )
+    side = f"below {lo:g}" if alpha[0] < lo else f"above {hi:g}"
     warnings.warn(
         f"rtol is calibrated on {cls} graphs with {crossings} crossings for alpha in "
-        f"[{lo:g}, {hi:g}]; this model has {have}, so its slip errors may exceed rtol "
-        "(the step is that of the nearest calibrated alpha; pass dt= to choose one)",
+        f"[{lo:g}, {hi:g}]; with alpha {side} slip errors may exceed rtol (the step is that "
+        "of the nearest calibrated alpha; pass dt= to choose one)",
         AccuracyWarning,
         stacklevel=3,
     )

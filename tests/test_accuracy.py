@@ -97,7 +97,7 @@ def test_crossings_value_checked():
 
 def test_high_alpha_ring_within_rtol():
     """Rings at alpha 3 have 2-5 times the error of alpha <= 2.5 at one step: their own
-    calibration column (``HIGH_ALPHA``) keeps them within rtol, the lower one would not."""
+    calibration band (alpha 2.5-5) keeps them within rtol, the lower one would not."""
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(600), k=16, sigma=0.01, alpha=3.0)
     state = faultnet.simulate(model, 3000, rng=7, progress=False).state
     states = []
@@ -119,18 +119,21 @@ def test_high_alpha_ring_within_rtol():
 def test_alpha_bands_and_warning():
     ring = faultnet.graphs.ring(100)
     coef = {a: step_for_rtol(faultnet.CarlsonLanger(ring, alpha=a), 2e-5).coefficient
-            for a in (0.1, 1.0, 2.5, 3.0, 5.0)}  # fmt: skip
-    assert coef[0.1] == coef[1.0] > coef[2.5] == coef[3.0] == coef[5.0]
+            for a in (0.1, 1.0, 2.0, 2.5, 3.0, 5.0)}  # fmt: skip
+    main, high = coef[1.0], coef[3.0]
+    assert main > high
+    assert coef[0.1] == coef[2.0] == main
+    assert coef[2.5] == coef[5.0] == high  # a band's end takes the stricter side
     # a model whose blocks span both bands takes the worse one
     g = faultnet.graphs.ring(100)
     for i in range(50):
         g.nodes[i]["alpha"] = 3.0
     mixed = faultnet.CarlsonLanger(g, alpha=1.0)
-    assert step_for_rtol(mixed, 2e-5).coefficient == coef[3.0]
+    assert step_for_rtol(mixed, 2e-5).coefficient == high
     # outside every band: the nearest band's step, with a warning that names the range
-    with pytest.warns(faultnet.AccuracyWarning, match=r"alpha in \[0.1, 5\].*alpha = 6"):
+    with pytest.warns(faultnet.AccuracyWarning, match=r"alpha in \[0.1, 5\].*alpha above 5"):
         far = step_for_rtol(faultnet.CarlsonLanger(ring, alpha=6.0), 2e-5)
-    assert far.coefficient == coef[5.0]
+    assert far.coefficient == high
     with warnings.catch_warnings():  # one block: every event is a solo slip, nothing to warn
         warnings.simplefilter("error")
         step_for_rtol(faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=0.0), 2e-5)
@@ -140,7 +143,11 @@ def test_alpha_bands_and_warning():
 
 
 def test_alpha_band_columns_share_the_coefficients():
-    from faultnet.accuracy import CALIBRATION, HIGH_ALPHA
+    from faultnet.accuracy import CALIBRATION
 
-    for (cls, crossings), (_, rows) in HIGH_ALPHA.items():
-        assert [c for c, _ in rows] == [c for c, _ in CALIBRATION[cls][crossings]]
+    for treatments in CALIBRATION.values():
+        for bands in treatments.values():
+            grids = {tuple(c for c, _ in rows) for _, rows in bands}
+            assert len(grids) == 1
+            edges = [a for (lo, hi), _ in bands for a in (lo, hi)]
+            assert edges == sorted(edges)  # contiguous, in order
