@@ -56,9 +56,10 @@ their error next to the table's.
 
 The error depends on alpha too, and each column holds over a measured alpha band
 (``calibrate.py W1 --alpha A``; :data:`CALIBRATION`).  At coefficient 0.479 the ring's
-error is 1.6e-5 at alpha 0.1, 1.5e-5 at 0.25, 8.5e-6 at 0.5, 6.2e-6 at 0.75, 3.5e-6 at 1,
-3.2e-6 at 1.5, 8.4e-6 at 2, 1.7e-5 at 2.5, 3.5e-5 at 3, 3.3e-5 at 4 and 1.7e-5 at 5, so
-rings have two bands: 0.1-2.5 (the W1-W3 column) and 2.5-5 (2-5 times its error).  2-D
+error is 2.0e-5 at alpha 0.05, 1.6e-5 at 0.1, 1.5e-5 at 0.25, 8.5e-6 at 0.5, 6.2e-6 at
+0.75, 3.5e-6 at 1, 3.2e-6 at 1.5, 8.4e-6 at 2, 1.7e-5 at 2.5, 3.5e-5 at 3, 3.3e-5 at 4 and
+1.7e-5 at 5, so rings have three bands: 0-0.1 (up to 1.5 times the W1-W3 column's error
+from coefficient 0.4 on), 0.1-2.5 (the W1-W3 column) and 2.5-5 (2-5 times its error).  2-D
 graphs have one, 0.25-3 (the periodic lattice at alpha 0.25, 2 and 3 lies on the
 interpolated column).  A model whose blocks' alphas meet several bands takes the worst of
 them; outside every band it gets the nearest one and an
@@ -70,15 +71,16 @@ when its step is at least ``SWITCH`` times the exact one's (rings 0.7, 2-D graph
 it is then the faster, see :data:`SWITCH`) and its column covers the model's alpha.  An
 explicit ``crossings=`` takes that treatment's own coefficient.  Resulting settings:
 
-====== ==================== ==================== ========================
-rtol   rings, alpha 0.1-2.5 rings, alpha 2.5-5   2-D graphs
-====== ==================== ==================== ========================
-1e-8   exact 0.094          exact 0.094          interpolated 0.058
-1e-7   exact 0.149          exact 0.148          interpolated 0.105
-1e-6   exact 0.241          exact 0.231          interpolated 0.187
-2e-5   exact 0.479          exact 0.400          interpolated 0.405
-1e-4   exact 0.709          exact 0.536          interpolated 0.548
-====== ==================== ==================== ========================
+====== ================== ================== ================== ========================
+rtol   rings, alpha       rings, alpha       rings, alpha       2-D graphs
+       0-0.1              0.1-2.5            2.5-5
+====== ================== ================== ================== ========================
+1e-8   exact 0.094        exact 0.094        exact 0.094        interpolated 0.058
+1e-7   exact 0.149        exact 0.149        exact 0.148        interpolated 0.105
+1e-6   exact 0.241        exact 0.241        exact 0.231        interpolated 0.187
+2e-5   exact 0.454        exact 0.479        exact 0.400        interpolated 0.405
+1e-4   exact 0.666        exact 0.709        exact 0.536        interpolated 0.548
+====== ================== ================== ================== ========================
 """
 
 from __future__ import annotations
@@ -132,6 +134,19 @@ _RING_EXACT = (
     (0.5, 1.9e-05),
     (0.6, 3.7e-05),
     (0.8, 1.4e-04),
+)
+#: rings, exact, alpha 0 to 0.1: the W1-W3 column and alpha 0.05 (100 events), up to 1.5 times
+#: the column's error from coefficient 0.4 on (alpha 0 gave no multi-block event in 10^4 events
+#: of W1's steady state)
+_RING_EXACT_LOW = (
+    (0.1, 1.1e-08),
+    (0.15, 8.2e-08),
+    (0.2, 3.3e-07),
+    (0.3, 2.3e-06),
+    (0.4, 8.9e-06),
+    (0.5, 2.5e-05),
+    (0.6, 5.4e-05),
+    (0.8, 1.6e-04),
 )
 #: rings, exact, alpha 2.5 to 5: the worst of alpha 3 and 4 (alpha 2.5 and 5 lie below it),
 #: 2-5 times the error of alpha 2
@@ -188,10 +203,14 @@ _2D_INTERPOLATED = (
 )
 #: per graph class and treatment, the alpha bands ``((lowest, highest alpha), column)``; a
 #: model takes the worst column of every band its blocks' alpha range meets (bands share
-#: their ends, so alpha 2.5 takes the stricter neighbour)
+#: their ends, so alpha 0.1 and 2.5 take the stricter neighbour)
 CALIBRATION = {
     "ring": {
-        "exact": (((0.1, 2.5), _RING_EXACT), ((2.5, 5.0), _RING_EXACT_HIGH)),
+        "exact": (
+            ((0.0, 0.1), _RING_EXACT_LOW),
+            ((0.1, 2.5), _RING_EXACT),
+            ((2.5, 5.0), _RING_EXACT_HIGH),
+        ),
         "interpolated": (((0.25, 2.0), _RING_INTERPOLATED),),
     },
     "2-D": {

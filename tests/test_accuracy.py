@@ -119,11 +119,12 @@ def test_high_alpha_ring_within_rtol():
 def test_alpha_bands_and_warning():
     ring = faultnet.graphs.ring(100)
     coef = {a: step_for_rtol(faultnet.CarlsonLanger(ring, alpha=a), 2e-5).coefficient
-            for a in (0.1, 1.0, 2.0, 2.5, 3.0, 5.0)}  # fmt: skip
-    main, high = coef[1.0], coef[3.0]
-    assert main > high
-    assert coef[0.1] == coef[2.0] == main
-    assert coef[2.5] == coef[5.0] == high  # a band's end takes the stricter side
+            for a in (0.0, 0.05, 0.1, 0.25, 1.0, 2.0, 2.5, 3.0, 5.0)}  # fmt: skip
+    low, main, high = coef[0.05], coef[1.0], coef[3.0]
+    assert main > low > high
+    assert coef[0.25] == coef[2.0] == main
+    assert coef[0.0] == coef[0.1] == low  # a band's end takes the stricter side
+    assert coef[2.5] == coef[5.0] == high
     # a model whose blocks span both bands takes the worse one
     g = faultnet.graphs.ring(100)
     for i in range(50):
@@ -131,7 +132,7 @@ def test_alpha_bands_and_warning():
     mixed = faultnet.CarlsonLanger(g, alpha=1.0)
     assert step_for_rtol(mixed, 2e-5).coefficient == high
     # outside every band: the nearest band's step, with a warning that names the range
-    with pytest.warns(faultnet.AccuracyWarning, match=r"alpha in \[0.1, 5\].*alpha above 5"):
+    with pytest.warns(faultnet.AccuracyWarning, match=r"alpha in \[0, 5\].*alpha above 5"):
         far = step_for_rtol(faultnet.CarlsonLanger(ring, alpha=6.0), 2e-5)
     assert far.coefficient == high
     with warnings.catch_warnings():  # one block: every event is a solo slip, nothing to warn
