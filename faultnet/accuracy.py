@@ -92,7 +92,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultnet.exceptions import AccuracyWarning, InvalidParameterError
-from faultnet.options import CROSSINGS
+from faultnet.options import CROSSINGS, check_crossings
 
 __all__ = [
     "CALIBRATION",
@@ -331,17 +331,15 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
         raise InvalidParameterError(
             f"rtol must be between {RTOL_RANGE[0]:g} and {RTOL_RANGE[1]:g}; got {rtol!r}"
         )
-    if crossings is not None and crossings not in CROSSINGS:
-        raise InvalidParameterError(
-            f"crossings must be one of {list(CROSSINGS)} or None; got {crossings!r}"
-        )
+    check_crossings(crossings)
     cls = graph_class(model)
     alpha = (float(np.min(model.alpha_values)), float(np.max(model.alpha_values)))
-    coefs, inside = {}, {}
+    coefs, covered, inside = {}, {}, {}
     for treatment in CROSSINGS:
-        rows, covered = _columns(cls, treatment, alpha)
+        rows, covered[treatment] = _columns(cls, treatment, alpha)
         coefs[treatment] = _coefficient(rows, treatment, rtol / SAFETY[cls][treatment])
-        inside[treatment] = covered[0] <= alpha[0] and alpha[1] <= covered[1]
+        lo, hi = covered[treatment]
+        inside[treatment] = lo <= alpha[0] and alpha[1] <= hi
     if crossings is None:
         faster = (
             "interpolated" if coefs["interpolated"] >= SWITCH[cls] * coefs["exact"] else "exact"
@@ -350,13 +348,13 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
         # the faster treatment, unless only the other one is calibrated at this alpha
         crossings = other if inside[other] and not inside[faster] else faster
     if not inside[crossings] and model.adjacency.nnz:  # without springs every event is solo
-        _warn_outside(cls, crossings, alpha)
+        _warn_outside(cls, crossings, alpha, covered[crossings])
     coef = coefs[crossings]
     return StepChoice(coef / math.sqrt(omega2_max(model)), coef, crossings, method)
 
 
-def _warn_outside(cls, crossings, alpha):
-    lo, hi = _columns(cls, crossings, alpha)[1]
+def _warn_outside(cls, crossings, alpha, covered):
+    lo, hi = covered
     side = f"below {lo:g}" if alpha[0] < lo else f"above {hi:g}"
     warnings.warn(
         f"rtol is calibrated on {cls} graphs with {crossings} crossings for alpha in "

@@ -37,6 +37,7 @@ __all__ = [
     "DEFAULT_LOCAL_REGIONS_FROM",
     "METHODS",
     "RunOptions",
+    "check_crossings",
     "default_dt",
     "omega2_max",
 ]
@@ -78,6 +79,15 @@ def _check_method(method):
     if not isinstance(method, str) or method not in METHODS:
         raise InvalidParameterError(f"method must be one of {sorted(METHODS)}; got {method!r}")
     return method
+
+
+def check_crossings(crossings):
+    """``crossings`` if it is a crossing treatment or None, else a clear error."""
+    if crossings is not None and crossings not in CROSSINGS:
+        raise InvalidParameterError(
+            f"crossings must be one of {list(CROSSINGS)} or None; got {crossings!r}"
+        )
+    return crossings
 
 
 def default_dt(model, method: str = "dopri5") -> float:
@@ -174,10 +184,7 @@ class RunOptions:
                     "rtol is calibrated for method 'dopri5'; use dt with rk4"
                 )
             object.__setattr__(self, "rtol", rtol)
-        if self.crossings is not None and self.crossings not in CROSSINGS:
-            raise InvalidParameterError(
-                f"crossings must be one of {list(CROSSINGS)} or None; got {self.crossings!r}"
-            )
+        check_crossings(self.crossings)
         if self.crossings == "interpolated" and self.method != "dopri5":
             raise InvalidParameterError("crossings='interpolated' needs method 'dopri5'")
         if not isinstance(self.solo_cache, bool | np.bool_):

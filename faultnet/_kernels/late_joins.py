@@ -85,7 +85,7 @@ def _late_start(j, over, h, b, graph, work):
     cb = 0.0
     for p in range(graph.indptr[j], graph.indptr[j + 1]):
         n = indices[p]
-        if IW[FLAG, n] == ACTIVE and n != j:
+        if IW[FLAG, n] == ACTIVE:
             d1 += kval[p] * W[n, V]
             d2 += kval[p] * W[n, A]
         elif n == b and IW[FLAG, n] != ACTIVE:
