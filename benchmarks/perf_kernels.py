@@ -9,6 +9,7 @@ kernel's share of the samples taken in compiled code.  Kernels inlined into anot
 
     python benchmarks/perf_kernels.py W4 --rtol 2e-5 --events 300000
     python benchmarks/perf_kernels.py L1024 --events 60000        # a tiled 1024^2 lattice
+    python benchmarks/perf_kernels.py W1 --rtol 2e-5 --crossings interpolated
 
 Needs ``perf`` and ``nm`` (binutils) on the PATH and permission to sample (``perf_event_paranoid``
 of 2 or less).  Run by hand; never a test.
@@ -96,7 +97,7 @@ def write_perf_map():
     return len(rows)
 
 
-def _child(wid, rtol, events):
+def _child(wid, rtol, events, crossings):
     sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     from run import SIGMA, WORKLOADS, K, _tiled_state, _warm_state, build_graph
 
@@ -106,7 +107,7 @@ def _child(wid, rtol, events):
     model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=alpha)
     n = int(wid[1:]) if wid.startswith("L") else 0
     start = _tiled_state(128, n, 2.0)[0] if n >= 256 else _warm_state(model, 2.0)[0]
-    opts = faultnet.RunOptions(rtol=rtol)
+    opts = faultnet.RunOptions(rtol=rtol, crossings=crossings)
     faultnet.simulate(model, 100, x0=start, progress=False, options=opts)  # compile
     print(f"{write_perf_map()} kernel symbols", file=sys.stderr)
     tic = time.perf_counter()
@@ -119,10 +120,11 @@ def main(argv=None):
     ap.add_argument("workload", help="W1..W6 or L<size> (periodic square lattice)")
     ap.add_argument("--rtol", type=float, default=1e-6)
     ap.add_argument("--events", type=int, default=200_000)
+    ap.add_argument("--crossings", choices=["exact", "interpolated"], help="default: rtol's choice")
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        _child(args.workload, args.rtol, args.events)
+        _child(args.workload, args.rtol, args.events, args.crossings)
         return
     for tool in ("perf", "nm"):
         if shutil.which(tool) is None:
@@ -132,6 +134,8 @@ def main(argv=None):
         data = os.path.join(tmp, "perf.data")
         cmd = [sys.executable, os.path.abspath(__file__), args.workload, "--child",
                "--rtol", str(args.rtol), "--events", str(args.events)]  # fmt: skip
+        if args.crossings:
+            cmd += ["--crossings", args.crossings]
         subprocess.run(["perf", "record", "-q", "-F", "999", "-o", data, "--", *cmd], env=env,
                        check=True)  # fmt: skip
         report = subprocess.run(

@@ -66,21 +66,23 @@ them; outside every band it gets the nearest one and an
 :class:`~faultnet.exceptions.AccuracyWarning`.
 
 For each treatment the coefficient is read off its column (log-log between the rows, the
-scheme's order below the first) at ``rtol / SAFETY``; the interpolated treatment is chosen
-when its step is at least ``SWITCH`` times the exact one's (rings 0.7, 2-D graphs 0.3: where
-it is then the faster, see :data:`SWITCH`) and its column covers the model's alpha.  An
-explicit ``crossings=`` takes that treatment's own coefficient.  Resulting settings:
+scheme's order below the first) at ``rtol / SAFETY``.  The interpolated treatment is chosen
+from the rtol in :data:`INTERPOLATED_FROM` on (rings 2e-5, 2-D graphs the whole range: where
+it is the faster) when its column covers the model's alpha.  An explicit ``crossings=`` takes
+that treatment's own coefficient.  Resulting settings:
 
-====== ================== ================== ================== ========================
-rtol   rings, alpha       rings, alpha       rings, alpha       2-D graphs
-       0-0.1              0.1-2.5            2.5-5
-====== ================== ================== ================== ========================
-1e-8   exact 0.094        exact 0.094        exact 0.094        interpolated 0.058
-1e-7   exact 0.149        exact 0.149        exact 0.148        interpolated 0.105
-1e-6   exact 0.241        exact 0.241        exact 0.231        interpolated 0.187
-2e-5   exact 0.454        exact 0.479        exact 0.400        interpolated 0.405
-1e-4   exact 0.666        exact 0.709        exact 0.536        interpolated 0.548
-====== ================== ================== ================== ========================
+====== ============== ================ ================ ============== ==================
+rtol   rings, alpha   rings, alpha     rings, alpha     rings, alpha   2-D graphs
+       0-0.1          0.1-0.25, 2-2.5  0.25-2           2.5-5
+====== ============== ================ ================ ============== ==================
+1e-8   exact 0.094    exact 0.094      exact 0.094      exact 0.094    interpolated 0.058
+1e-7   exact 0.149    exact 0.149      exact 0.149      exact 0.148    interpolated 0.105
+1e-6   exact 0.241    exact 0.241      exact 0.241      exact 0.231    interpolated 0.187
+2e-5   exact 0.454    exact 0.479      interpolated     exact 0.400    interpolated 0.405
+                                       0.241
+1e-4   exact 0.666    exact 0.709      interpolated     exact 0.536    interpolated 0.548
+                                       0.350
+====== ============== ================ ================ ============== ==================
 """
 
 from __future__ import annotations
@@ -97,6 +99,7 @@ from faultnet.options import CROSSINGS, check_crossings
 __all__ = [
     "CALIBRATION",
     "CROSSINGS",
+    "INTERPOLATED_FROM",
     "RTOL_RANGE",
     "StepChoice",
     "graph_class",
@@ -115,12 +118,14 @@ SAFETY = {
     "ring": {"exact": 1.25, "interpolated": 4.0},
     "2-D": {"exact": 1.25, "interpolated": 2.0},
 }
-#: use the interpolated treatment when its step is at least this fraction of the exact one's:
-#: on rings it costs about as much per step as the exact one at 0.7 of its step (W1: 24-29k
-#: against 26-29k events/s), on 2-D graphs far less (W4, events/s: interpolated at coefficient
-#: 0.18 30.3k against exact at 0.408 12.4k; 0.1 18.9k against 0.239 15.0k; 0.06 12.6k against
-#: 0.239 15.0k: even at about 0.3 of the exact step)
-SWITCH = {"ring": 0.7, "2-D": 0.3}
+#: the interpolated treatment is the faster from this rtol on.  Rings (``benchmarks/run.py``'s
+#: workloads from saved steady states, 60,000 events, events/s of interpolated against exact
+#: at each one's calibrated step): W1, W2, W3 -18%, -0.4%, -11% at rtol 5e-6; +1%, +7%, -6% at
+#: 1e-5; +12%, +25%, +2% at 2e-5; +28%, +48%, +19% at 1e-4 (the exact treatment's partial
+#: steps to each crossing cost more than the interpolated one's shorter steps once the steps
+#: are long).  2-D graphs: the whole calibrated range (W4, events/s: interpolated at
+#: coefficient 0.18 30.3k against exact at 0.408 12.4k; 0.06 12.6k against 0.239 15.0k)
+INTERPOLATED_FROM = {"ring": 2e-5, "2-D": 1e-8}
 #: order of the S error in the step, used below the first row of the table
 ORDER = {"exact": 5.0, "interpolated": 4.0}
 #: (coefficient, 90th-percentile S error) columns from ``benchmarks/calibrate.py``.
@@ -308,10 +313,10 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
     >>> s.crossings, round(s.coefficient, 3)
     ('interpolated', 0.405)
     >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16, sigma=0.01, alpha=1.0)
-    >>> step_for_rtol(ring, 2e-5).crossings
+    >>> step_for_rtol(ring, 1e-6).crossings
     'exact'
-    >>> round(step_for_rtol(ring, 2e-5, crossings="interpolated").coefficient, 3)
-    0.241
+    >>> round(step_for_rtol(ring, 1e-6, crossings="interpolated").coefficient, 3)
+    0.112
     >>> step_for_rtol(lattice, 1e-3)
     Traceback (most recent call last):
     ...
@@ -341,16 +346,19 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
         lo, hi = covered[treatment]
         inside[treatment] = lo <= alpha[0] and alpha[1] <= hi
     if crossings is None:
-        faster = (
-            "interpolated" if coefs["interpolated"] >= SWITCH[cls] * coefs["exact"] else "exact"
-        )
+        faster = "interpolated" if rtol >= INTERPOLATED_FROM[cls] else "exact"
         other = "exact" if faster == "interpolated" else "interpolated"
-        # the faster treatment, unless only the other one is calibrated at this alpha
-        crossings = other if inside[other] and not inside[faster] else faster
+        # the faster treatment, unless the other one is calibrated nearer to this alpha
+        crossings = other if _gap(covered[other], alpha) < _gap(covered[faster], alpha) else faster
     if not inside[crossings] and model.adjacency.nnz:  # without springs every event is solo
         _warn_outside(cls, crossings, alpha, covered[crossings])
     coef = coefs[crossings]
     return StepChoice(coef / math.sqrt(omega2_max(model)), coef, crossings, method)
+
+
+def _gap(covered, alpha):
+    """How far the alpha range ``alpha`` reaches outside the calibrated range ``covered``."""
+    return max(covered[0] - alpha[0], alpha[1] - covered[1], 0.0)
 
 
 def _warn_outside(cls, crossings, alpha, covered):

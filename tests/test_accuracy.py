@@ -107,8 +107,10 @@ def test_high_alpha_ring_within_rtol():
             states.append(state)
         state = res.state
     ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact", float("inf"))
-    low = step_for_rtol(faultnet.CarlsonLanger(faultnet.graphs.ring(600), alpha=2.0), 2e-5)
+    alpha2 = faultnet.CarlsonLanger(faultnet.graphs.ring(600), alpha=2.0)
+    low = step_for_rtol(alpha2, 2e-5, crossings="exact")
     choice = step_for_rtol(model, 2e-5)
+    assert choice.crossings == "exact"
     assert choice.coefficient < low.coefficient
     for coef, within in ((choice.coefficient, True), (low.coefficient, False)):
         S = _slips(model, states, coef / omega2_max(model) ** 0.5, "exact")
@@ -116,9 +118,30 @@ def test_high_alpha_ring_within_rtol():
         assert (err <= 2e-5) == within, (coef, err)
 
 
+def test_treatment_by_rtol():
+    """Rings take the interpolated treatment from INTERPOLATED_FROM on, where its column covers
+    alpha; 2-D graphs take it over the whole range."""
+    from faultnet.accuracy import INTERPOLATED_FROM, RTOL_RANGE
+
+    ring = faultnet.graphs.ring(100)
+    switch = INTERPOLATED_FROM["ring"]
+    at = {a: faultnet.CarlsonLanger(ring, alpha=a) for a in (0.2, 1.0, 2.2)}
+    assert step_for_rtol(at[1.0], switch).crossings == "interpolated"
+    assert step_for_rtol(at[1.0], RTOL_RANGE[1]).crossings == "interpolated"
+    assert step_for_rtol(at[1.0], switch * 0.99).crossings == "exact"
+    for alpha in (0.2, 2.2):  # outside the interpolated column's band: exact, no warning
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            assert step_for_rtol(at[alpha], switch).crossings == "exact"
+    lattice = faultnet.CarlsonLanger(faultnet.graphs.square_lattice(8, 8, periodic=True))
+    for rtol in RTOL_RANGE:
+        assert step_for_rtol(lattice, rtol).crossings == "interpolated"
+
+
 def test_alpha_bands_and_warning():
     ring = faultnet.graphs.ring(100)
-    coef = {a: step_for_rtol(faultnet.CarlsonLanger(ring, alpha=a), 2e-5).coefficient
+    coef = {a: step_for_rtol(faultnet.CarlsonLanger(ring, alpha=a), 2e-5, crossings="exact")
+            .coefficient
             for a in (0.0, 0.05, 0.1, 0.25, 1.0, 2.0, 2.5, 3.0, 5.0)}  # fmt: skip
     low, main, high = coef[0.05], coef[1.0], coef[3.0]
     assert main > low > high
