@@ -12,7 +12,9 @@ plate time ``--transient-t``, default 2: every block has slipped about twice),
 with the kernel already compiled; compile times are measured separately
 (``--compile``) with a cold, empty Numba cache directory and with the warm
 cache.  ``--scaling`` adds periodic square lattices L = 32 ... 1024 (built as
-:class:`faultnet.SparseGraph`); ``benchmarks/plot_scaling.py`` draws them.
+:class:`faultnet.SparseGraph`); ``benchmarks/plot_scaling.py`` draws them.  The last two
+columns are the largest event's slipping blocks and its share of the run's steps: a single
+plate-wide event can carry most of a large lattice's block-steps.
 """
 
 from __future__ import annotations
@@ -126,6 +128,11 @@ def measure(wid, alpha, transient_t, events, tile_from=0):
         "block_steps_per_s": md["block_steps"] / wall,
         "us_per_event": 1e6 * wall / events,
         "mean_blocks": float(res.events.n_blocks.mean()),
+        # one plate-wide event can carry most of a large lattice's work: its size and steps
+        "max_blocks": int(res.events.n_blocks.max()),
+        "max_event_step_share": float(
+            res.events.n_steps.iloc[int(res.events.n_blocks.to_numpy().argmax())] / md["n_steps"]
+        ),
         "steps_per_event": md["n_steps"] / events,
         "solo_fraction": md["solo_events"] / events,
         "dt": res.dt,
@@ -195,7 +202,8 @@ def _print_row(row, alpha):
         f"{row['id']:5} {row['workload']:46} {row['blocks']:>8} {alpha:>5} "
         f"{row['events_per_s']:>10,.0f} {row['block_steps_per_s']:>14,.0f} "
         f"{row['mean_blocks']:>9.2f} {row['steps_per_event']:>8.1f} "
-        f"{row['solo_fraction']:>5.2f} {row['peak_rss_mib']:>8.0f}",
+        f"{row['solo_fraction']:>5.2f} {row['peak_rss_mib']:>8.0f} "
+        f"{row['max_blocks']:>9} {row['max_event_step_share']:>6.0%}",
         flush=True,
     )
 
@@ -254,7 +262,8 @@ def main(argv=None):
     rows = []
     header = (
         f"{'id':5} {'workload':46} {'N':>8} {'alpha':>5} {'events/s':>10} "
-        f"{'block-steps/s':>14} {'blocks/ev':>9} {'steps/ev':>8} {'solo':>5} {'peak MiB':>8}"
+        f"{'block-steps/s':>14} {'blocks/ev':>9} {'steps/ev':>8} {'solo':>5} {'peak MiB':>8} "
+        f"{'largest':>9} {'steps':>6}"
     )
     print(header)
     print("-" * len(header))
