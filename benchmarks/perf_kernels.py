@@ -30,7 +30,7 @@ import time
 #: kernel modules whose compiled functions get symbols
 MODULES = (
     "events", "slip", "solo", "integrate", "interp", "late_joins", "local", "landing", "stepping",
-    "dopri", "crossing", "tree", "tableau",
+    "dopri", "crossing", "tree", "tableau", "response",
 )  # fmt: skip
 
 

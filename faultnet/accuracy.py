@@ -99,7 +99,6 @@ from faultnet.options import CROSSINGS, check_crossings
 __all__ = [
     "CALIBRATION",
     "CROSSINGS",
-    "INTERPOLATED_FROM",
     "RTOL_RANGE",
     "StepChoice",
     "graph_class",
@@ -109,23 +108,14 @@ __all__ = [
 #: the calibrated range of rtol
 RTOL_RANGE = (1e-8, 1e-4)
 #: the target error is rtol / SAFETY[graph class][treatment]: the table's 90th percentiles come
-#: from 60 events each; on rings the interpolated treatment's error varies more between systems
-#: (a ring of 200 blocks 3,000 events after a random start: 2.6e-6 at coefficient 0.155,
-#: against 6.7e-7 on W1; ``tests/test_accuracy.py``), on 2-D graphs less (a periodic 12^2
-#: lattice, 80 events after two random starts: 1.2e-6 to 1.6e-6 at 0.3, 9.2e-6 to 1.1e-5 at
-#: 0.41, 5.2e-5 to 5.7e-5 at 0.56)
+#: from 60-150 events each, and other systems scatter about them (interpolated crossings, 60
+#: events 3,000 events after a random start, ``tests/test_accuracy.py``'s systems: a ring of
+#: 200 blocks 3.0e-7, 1.6e-6, 5.2e-6 at coefficients 0.2, 0.3, 0.4, below the ring column; a
+#: periodic 12^2 lattice 6.7e-8, 4.3e-7, 1.1e-6, 3.5e-6 at 0.2 to 0.5, below the 2-D one)
 SAFETY = {
-    "ring": {"exact": 1.25, "interpolated": 4.0},
+    "ring": {"exact": 1.25, "interpolated": 2.0},
     "2-D": {"exact": 1.25, "interpolated": 2.0},
 }
-#: the interpolated treatment is the faster from this rtol on.  Rings (``benchmarks/run.py``'s
-#: workloads from saved steady states, 60,000 events, events/s of interpolated against exact
-#: at each one's calibrated step): W1, W2, W3 -18%, -0.4%, -11% at rtol 5e-6; +1%, +7%, -6% at
-#: 1e-5; +12%, +25%, +2% at 2e-5; +28%, +48%, +19% at 1e-4 (the exact treatment's partial
-#: steps to each crossing cost more than the interpolated one's shorter steps once the steps
-#: are long).  2-D graphs: the whole calibrated range (W4, events/s: interpolated at
-#: coefficient 0.18 30.3k against exact at 0.408 12.4k; 0.06 12.6k against 0.239 15.0k)
-INTERPOLATED_FROM = {"ring": 2e-5, "2-D": 1e-8}
 #: order of the S error in the step, used below the first row of the table
 ORDER = {"exact": 5.0, "interpolated": 4.0}
 #: (coefficient, 90th-percentile S error) columns from ``benchmarks/calibrate.py``.
@@ -165,19 +155,19 @@ _RING_EXACT_HIGH = (
     (0.6, 1.5e-04),
     (0.8, 6.3e-04),
 )
-#: rings, interpolated: the worst of W1-W3
+#: rings, interpolated: the worst of W1-W3 (100 events each)
 _RING_INTERPOLATED = (
-    (0.03, 1.4e-09),
-    (0.05, 9.9e-09),
-    (0.07, 4.6e-08),
-    (0.1, 1.7e-07),
-    (0.15, 6.7e-07),
-    (0.2, 2.8e-06),
-    (0.3, 9.9e-06),
-    (0.4, 5.5e-05),
-    (0.5, 1.2e-04),
-    (0.6, 4.4e-04),
-    (0.8, 4.9e-02),
+    (0.03, 5.0e-11),
+    (0.05, 4.9e-10),
+    (0.07, 2.9e-09),
+    (0.1, 1.8e-08),
+    (0.15, 1.2e-07),
+    (0.2, 5.4e-07),
+    (0.3, 3.8e-06),
+    (0.4, 1.6e-05),
+    (0.5, 3.9e-05),
+    (0.6, 8.2e-05),
+    (0.8, 5.1e-04),
 )
 #: 2-D graphs, exact: the worst of W4-W6 and the periodic 150^2 lattice at alpha 0.25, 2 and
 #: 3 (which from coefficient 0.5 on have up to 10 times the error of alpha 1)
@@ -191,20 +181,20 @@ _2D_EXACT = (
     (0.6, 1.4e-05),
     (0.8, 5.9e-05),
 )
-#: 2-D graphs, interpolated: the worst of W4-W6 (150 events each); the periodic 150^2 lattice
-#: at alpha 0.25, 2 and 3 lies on it
+#: 2-D graphs, interpolated: the worst of W4-W6 (150 events each) and the periodic 150^2
+#: lattice at alpha 0.25 (100 events), 0.5 (100), 2 and 3 (60)
 _2D_INTERPOLATED = (
-    (0.03, 3.7e-10),
-    (0.05, 2.9e-09),
-    (0.07, 1.0e-08),
-    (0.1, 4.2e-08),
-    (0.15, 2.0e-07),
-    (0.2, 6.6e-07),
-    (0.3, 3.1e-06),
-    (0.4, 9.3e-06),
-    (0.5, 3.5e-05),
-    (0.6, 7.1e-05),
-    (0.8, 4.1e-04),
+    (0.03, 1.2e-11),
+    (0.05, 8.9e-11),
+    (0.07, 9.3e-10),
+    (0.1, 3.7e-09),
+    (0.15, 2.4e-08),
+    (0.2, 1.1e-07),
+    (0.3, 9.4e-07),
+    (0.4, 4.4e-06),
+    (0.5, 1.8e-05),
+    (0.6, 4.5e-05),
+    (0.8, 9.8e-05),
 )
 #: per graph class and treatment, the alpha bands ``((lowest, highest alpha), column)``; a
 #: model takes the worst column of every band its blocks' alpha range meets (bands share
@@ -346,10 +336,10 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
         lo, hi = covered[treatment]
         inside[treatment] = lo <= alpha[0] and alpha[1] <= hi
     if crossings is None:
-        faster = "interpolated" if rtol >= INTERPOLATED_FROM[cls] else "exact"
-        other = "exact" if faster == "interpolated" else "interpolated"
-        # the faster treatment, unless the other one is calibrated nearer to this alpha
-        crossings = other if _gap(covered[other], alpha) < _gap(covered[faster], alpha) else faster
+        # the interpolated treatment is the faster at every rtol (module text), unless the
+        # exact one is calibrated nearer to this alpha
+        near = _gap(covered["exact"], alpha) < _gap(covered["interpolated"], alpha)
+        crossings = "exact" if near else "interpolated"
     if not inside[crossings] and model.adjacency.nnz:  # without springs every event is solo
         _warn_outside(cls, crossings, alpha, covered[crossings])
     coef = coefs[crossings]

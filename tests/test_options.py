@@ -74,19 +74,25 @@ def test_each_run_gets_the_entry_kernel_of_its_scheme_and_treatment():
     lattice = faultnet.CarlsonLanger(faultnet.graphs.square_lattice(30, 30, periodic=True))
     small = faultnet.CarlsonLanger(faultnet.graphs.square_lattice(8, 8, periodic=True))
     default = RunOptions()
-    # rings (no block with three neighbours): exact crossings, no local regions
-    assert default.treatment(ring) == "exact"
-    assert default.regions_from(ring) == math.inf
-    assert default.entry(ring) == "run_events_dopri5"
+    # rings: interpolated crossings where calibrated; exact elsewhere, without local regions
+    assert default.treatment(ring) == "interpolated"
+    assert default.entry(ring) == "run_events_dopri5_interpolated"
+    slow = faultnet.CarlsonLanger(faultnet.graphs.ring(2000), alpha=0.1)
+    assert default.treatment(slow) == "exact"
+    assert default.regions_from(slow) == math.inf
+    assert default.entry(slow) == "run_events_dopri5"
     # 2-D graphs: interpolated at the default rtol; regions from 32 blocks with exact crossings,
     # also on a sparse graph that the calibration counts as ring-like (mean degree <= 2.5)
     tree = faultnet.CarlsonLanger(nx.balanced_tree(2, 8))
-    assert graph_class(tree) == "ring" and default.entry(tree) == "run_events_dopri5_local"
+    exact = RunOptions(crossings="exact")
+    assert graph_class(tree) == "ring" and exact.entry(tree) == "run_events_dopri5_local"
     assert default.entry(lattice) == "run_events_dopri5_interpolated"
     assert default.regions_from(lattice) == 32
     assert RunOptions(crossings="exact").entry(lattice) == "run_events_dopri5_local"
     # a graph too small for any region (4 x 32 blocks or fewer) skips their code
     assert RunOptions(crossings="exact").entry(small) == "run_events_dopri5"
     # an explicit value holds on any graph
-    assert RunOptions(local_regions_from=8).entry(ring) == "run_events_dopri5_local"
+    assert RunOptions(local_regions_from=8, crossings="exact").entry(ring) == (
+        "run_events_dopri5_local"
+    )
     assert RunOptions(method="rk4").entry(lattice) == "run_events_rk4"

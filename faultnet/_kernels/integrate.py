@@ -51,6 +51,8 @@ __all__ = [
     "ACTIVE",
     "STUCK",
     "FRONTIER",
+    "JOINING",
+    "STOPPING",
     "accel",
     "force",
     "force_hot",
@@ -72,6 +74,9 @@ FLAG, ACT, TOUCH, APOS, MARK, REGION, SAVE, SLIST, BND, CAND, RES, QUEUE = range
 N_IWORK = 12
 # block flags during an event
 UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
+# interpolated crossings (faultnet._kernels.interp), within one step: a stuck block that joins
+# inside it, a slipping block that stops inside it (while the crossings are located)
+JOINING, STOPPING = 4, 5
 
 
 @inline_kernel

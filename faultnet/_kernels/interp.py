@@ -10,17 +10,17 @@ already computed.  First every listed crossing is located on the step's own valu
 
 - a *stop* of block b at fraction ``th``: b is put at its dense-output position at ``th``
   (4th order) with v = 0;
-- a *join* of block j at ``th``: j starts from rest on the Taylor series of its path to
-  the fourth power of the time since the join (its acceleration, jerk and snap from the
-  force's derivatives, read off the neighbours' dense output at ``th``) over the rest of the
-  step.  The dense output moved j's neighbours as if none of them crossed inside the step;
-  a neighbour that started (or stopped) before ``th`` pushes (holds back) j, whose join
-  comes earlier by that push over the force's rate (:func:`_chained`): at a rupture front
-  one block often joins behind another within the same step;
+- a *join* of block j at ``th``: j starts from rest and its path over the rest of the step
+  is integrated alone, its neighbours following the step's dense output
+  (:func:`faultnet._kernels.response.join_path`).  The dense output moved j's neighbours as
+  if none of them crossed inside the step; a neighbour that started (or stopped) before
+  ``th`` pushes (holds back) j, whose join comes earlier by that push over the force's rate
+  (:func:`_chained`): at a rupture front one block often joins behind another within the
+  same step;
 - the slipping neighbours of b (or j) moved over ``[th, 1]`` with b on its continuation past
-  the stop (or j at rest): their velocities and positions get the first-order correction
-  ``k ∫ dx_b`` and ``k ∫∫ dx_b`` of the force they missed (integrals of the dense
-  polynomial, or of the Taylor start).
+  the stop (or j at rest): their velocities and positions get the force they missed and
+  their own answer to it, through their friction and springs
+  (:func:`faultnet._kernels.response.respond`).
 
 Then every stuck block next to a crossing block, or next to one of its slipping (corrected)
 neighbours, whose force has reached 1 joins (nothing else has moved since the step's scan
@@ -28,13 +28,13 @@ listed the joins).  Its force passed 1 inside the step, so it starts where the f
 expansion back from the step's end crosses 1 (:mod:`faultnet._kernels.late_joins`): a force
 only rises during an event, so a join that a neighbour's stop revealed happened before it.
 Each crossing costs a few passes over a handful of blocks instead of a partial step.
-The neglected terms are the neighbours' own response to their correction over the rest of
-the step and the dense output's error: the S error of an event grows like ``dt^4`` per
-crossing, against ``dt^5`` for the exact treatment (``faultnet.accuracy`` calibrates
-which to use for a given rtol).  Placing the chained and late joins is what keeps large
-events accurate: started at the dense output's root or at rest at the step's end instead,
-events of 10 or more blocks on the 150^2 lattice have a 90th-percentile S error 20 times
-larger at coefficient 0.363 (4.1e-4 against 2.1e-5).
+The neglected terms are the second-order answer of the neighbours (and of theirs) and the
+dense output's error: the S error of an event grows like ``dt^4`` per crossing, against
+``dt^5`` for the exact treatment (``faultnet.accuracy`` calibrates which to use for a given
+rtol).  Placing the chained and late joins is what keeps large events accurate: started at
+the dense output's root or at rest at the step's end instead, events of 10 or more blocks on
+the 150^2 lattice have a 90th-percentile S error 20 times larger at coefficient 0.363 (4.1e-4
+against 2.1e-5).
 
 ``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
 :class:`~faultnet._kernels.bundles.Work`.
@@ -50,8 +50,10 @@ from faultnet._kernels.integrate import (
     CAND,
     DN,
     FLAG,
+    JOINING,
     P2,
     SA,
+    STOPPING,
     SV,
     VN,
     VS,
@@ -65,50 +67,30 @@ from faultnet._kernels.integrate import (
 from faultnet._kernels.jit import kernel
 from faultnet._kernels.late_joins import joins_near, refresh
 from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
+from faultnet._kernels.response import join_path, respond, stop_moments, stop_position
 from faultnet._kernels.stepping import activate, deactivate, stick_scan
 from faultnet._kernels.tableau import KA, KV, slot_dense, stage_rows
 
-__all__ = ["JOINING", "interpolated_crossings"]
-
-#: flag of a stuck block that joins inside this step (until the step is committed)
-JOINING = 4
-#: flag of a slipping block that stops inside this step (while the crossings are located)
-STOPPING = 5
-
-
-@kernel
-def _correct(b, dv, dx, graph, work):
-    """Add k dv and k dx to the end velocity and position of b's slipping neighbours."""
-    W, IW, kval = work.W, work.IW, graph.kval
-    for p in range(graph.indptr[b], graph.indptr[b + 1]):
-        n = graph.indices[p]
-        if IW[FLAG, n] == ACTIVE:
-            W[n, VN] += kval[p] * dv
-            W[n, DN] += kval[p] * dx
+__all__ = ["interpolated_crossings"]
 
 
 @kernel
 def _stop(b, th, h, graph, work):
-    """Block b stops at fraction th: its end position on the dense output, neighbours corrected.
+    """Block b stops at fraction th: its end position, neighbours corrected.
 
-    Keeps its acceleration at the stop in ``W[b, SA]`` (for ``late_joins``).
+    The position is :func:`faultnet._kernels.response.stop_position`; the neighbours saw b
+    on the step's dense output.  Keeps b's acceleration at the stop in ``W[b, SA]`` (for
+    ``late_joins``).
     """
     W = work.W
     q = work.IW[APOS, b]
     c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, stage_rows(work), q, KV, W[b, VN])
-    xs = c0 + th * (c1 + th * (c2 + th * (c3 + th * c4)))
-    # antiderivatives P(s) = sum c_m s^(m+1)/(m+1), Q(s) = sum c_m s^(m+2)/(m+2)
-    p1 = c0 + c1 / 2.0 + c2 / 3.0 + c3 / 4.0 + c4 / 5.0
-    pt = th * (c0 + th * (c1 / 2.0 + th * (c2 / 3.0 + th * (c3 / 4.0 + th * c4 / 5.0))))
-    q1 = c0 / 2.0 + c1 / 3.0 + c2 / 4.0 + c3 / 5.0 + c4 / 6.0
-    qt = th * th * (c0 / 2.0 + th * (c1 / 3.0 + th * (c2 / 4.0 + th * (c3 / 5.0 + th * c4 / 6.0))))
-    r = 1.0 - th
-    i1 = xs * r - (p1 - pt)  # int_th^1 (x_s - p(s)) ds
-    i2 = xs * 0.5 * r * r - ((p1 - pt) - (q1 - qt))  # int_th^1 (1 - s)(x_s - p(s)) ds
+    xs = stop_position(b, th, h, graph, work)
+    i1, i2, i3, i4 = stop_moments(xs, th, h, c0, c1, c2, c3, c4)
     W[b, DN] = xs
     W[b, VN] = 0.0
     W[b, SA] = (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4)) / (h * h)  # a at the stop
-    _correct(b, h * i1, h * h * i2, graph, work)
+    respond(b, i1, i2, i3, i4, graph, work)
 
 
 @kernel
@@ -141,22 +123,17 @@ def _start_rates(j, th, h, graph, work):
 
 @kernel
 def _join(j, th, h, graph, work):
-    """Stuck block j reaches the threshold at fraction th: its Taylor start, neighbours corrected.
+    """Stuck block j reaches the threshold at fraction th: its path, neighbours corrected.
 
-    The start is the Taylor series of j's path to the fourth power of the time since the
-    join (:func:`_start_rates`).  Keeps the start's displacement and velocity in
-    ``W[j, SV]``, ``W[j, SA]`` (columns of the RK4 step, free with DP5) for the commit.
+    Its path over the rest of the step is :func:`faultnet._kernels.response.join_path`.
+    Keeps its displacement and velocity at the end of the step in ``W[j, SV]``, ``W[j, SA]``
+    (columns of the RK4 step, free with DP5) for the commit.
     """
     W = work.W
-    a0, jerk, snap = _start_rates(j, th, h, graph, work)
-    t = (1.0 - th) * h
-    t2 = t * t
-    W[j, SV] = t2 * (0.5 * a0 + t * (jerk / 6.0 + snap * t / 24.0))
-    W[j, SA] = t * (a0 + t * (0.5 * jerk + snap * t / 6.0))
-    t3 = t2 * t
-    dv = t3 * (a0 / 6.0 + t * (jerk / 24.0 + snap * t / 120.0))
-    dx = t3 * t * (a0 / 24.0 + t * (jerk / 120.0 + snap * t / 720.0))
-    _correct(j, dv, dx, graph, work)
+    x, v, i1, i2, i3, i4 = join_path(j, th, h, graph, work)
+    W[j, SV] = x
+    W[j, SA] = v
+    respond(j, i1, i2, i3, i4, graph, work)
 
 
 @kernel
