@@ -10,8 +10,10 @@ Two crossing treatments (``faultnet._kernels``):
 
 - ``"exact"``: every stop and join is reached by the scheme itself (partial steps, landings,
   local regions), so events keep the fifth order of the DP5 steps;
-- ``"interpolated"``: every full step is kept, and the crossings inside it are placed on its
-  dense output (``faultnet._kernels.interp``): fourth order, far cheaper per crossing.
+- ``"interpolated"``: every full step is kept, and the crossings inside it are placed from
+  what the step computed (``faultnet._kernels.interp``, ``response``): far cheaper per
+  crossing, and with the neighbours' answer to each crossing as accurate as the exact
+  treatment on small events at the same step.
 
 ``CALIBRATION`` holds, per graph class (rings: W1-W3; 2-D graphs: W4-W6) and treatment, the
 90th-percentile error of the class's worst workload per step coefficient (step =
@@ -20,6 +22,8 @@ the stiffness matrix plus alpha^2), measured by::
 
     PYTHONPATH=. python benchmarks/calibrate.py      # 60 events per workload
     PYTHONPATH=. python benchmarks/calibrate.py W4 W5 W6 --events 150 --treatments interpolated
+    PYTHONPATH=. python benchmarks/calibrate.py W1 W2 W3 --events 100 --treatments interpolated
+    PYTHONPATH=. python benchmarks/calibrate.py W4 --treatments interpolated --alpha 0.5
     PYTHONPATH=. python benchmarks/calibrate.py W4 --treatments exact --alpha 3
     PYTHONPATH=. python benchmarks/calibrate.py W1 --events 100 --treatments exact --alpha 3
 
@@ -29,60 +33,58 @@ worst of)
 ====== ============ ============ ============ ============
 coef    ring exact   ring interp  2-D exact    2-D interp
 ====== ============ ============ ============ ============
-0.03                 1.4e-09                   3.7e-10
-0.05                 9.9e-09                   2.9e-09
-0.07                 4.6e-08                   1.0e-08
-0.10    1.1e-08      1.7e-07      3.0e-09      4.2e-08
-0.15    8.2e-08      6.7e-07      2.1e-08      2.0e-07
-0.20    3.3e-07      2.8e-06      8.1e-08      6.6e-07
-0.30    2.3e-06      9.9e-06      4.8e-07      3.1e-06
-0.40    7.7e-06      5.5e-05      1.5e-06      9.3e-06
-0.50    1.9e-05      1.2e-04      5.1e-06      3.5e-05
-0.60    3.7e-05      4.4e-04      1.4e-05      7.1e-05
-0.80    1.4e-04      4.9e-02      5.9e-05      4.1e-04
+0.03                 5.0e-11                   1.2e-11
+0.05                 4.9e-10                   8.9e-11
+0.07                 2.9e-09                   9.3e-10
+0.10    1.1e-08      1.8e-08      3.0e-09      3.7e-09
+0.15    8.2e-08      1.2e-07      2.1e-08      2.4e-08
+0.20    3.3e-07      5.4e-07      8.1e-08      1.1e-07
+0.30    2.3e-06      3.8e-06      4.8e-07      9.4e-07
+0.40    7.7e-06      1.6e-05      1.5e-06      4.4e-06
+0.50    1.9e-05      3.9e-05      5.1e-06      1.8e-05
+0.60    3.7e-05      8.2e-05      1.4e-05      4.5e-05
+0.80    1.4e-04      5.1e-04      5.9e-05      9.8e-05
 ====== ============ ============ ============ ============
 
-The 2-D interpolated column is from 150 events per workload (its 90th percentiles from 60
-events varied by up to a factor 1.8).  With 300 events per workload (400 on W6), at the
-settings below, the 90th percentiles are 2.4e-7 to 4.5e-7 at rtol 1e-6 and 8.0e-6 to 1.3e-5
-at 2e-5 (W4-W6).  Events of 10 or more blocks (14-19% of the multi-block events) are less
-accurate than that 90th percentile says: their own 90th percentile is 1.3e-6 to 6.7e-6 at
-rtol 1e-6 and 2.0e-5 to 8.6e-5 at 2e-5 (the triangular cluster W6 the worst), and a few of
-them (a block that reaches the threshold by a hair, or not) are off by up to 1.2e-4 at rtol
-1e-6 and, at 2e-5, 8e-4, with one W4 event of 300 off by 8%.  The exact treatment keeps
-them within 2-3 times its small events' error; where the largest events matter most, use it
-(``RunOptions(crossings="exact")``) or a smaller rtol.  ``benchmarks/calibrate.py`` prints
-their error next to the table's.
+The interpolated columns are from 150 events per 2-D workload and 100 per ring.  Events of
+10 or more blocks are less accurate than the 90th percentile over all multi-block events says
+(``benchmarks/calibrate.py`` prints their error next to the table's; see the accuracy guide);
+where the largest events matter most, use ``RunOptions(crossings="exact")`` or a smaller rtol.
 
 The error depends on alpha too, and each column holds over a measured alpha band
 (``calibrate.py W1 --alpha A``; :data:`CALIBRATION`).  At coefficient 0.479 the ring's
 error is 2.0e-5 at alpha 0.05, 1.6e-5 at 0.1, 1.5e-5 at 0.25, 8.5e-6 at 0.5, 6.2e-6 at
 0.75, 3.5e-6 at 1, 3.2e-6 at 1.5, 8.4e-6 at 2, 1.7e-5 at 2.5, 3.5e-5 at 3, 3.3e-5 at 4 and
 1.7e-5 at 5, so rings have three bands: 0-0.1 (up to 1.5 times the W1-W3 column's error
-from coefficient 0.4 on), 0.1-2.5 (the W1-W3 column) and 2.5-5 (2-5 times its error).  2-D
-graphs have one, 0.25-3 (the periodic lattice at alpha 0.25, 2 and 3 lies on the
-interpolated column).  A model whose blocks' alphas meet several bands takes the worst of
-them; outside every band it gets the nearest one and an
-:class:`~faultnet.exceptions.AccuracyWarning`.
+from coefficient 0.4 on), 0.1-2.5 (the W1-W3 column) and 2.5-5 (2-5 times its error); the
+interpolated ring column is W1-W3 (alpha 0.25 to 2).  2-D graphs have one band, 0.25-3, for
+both treatments (the periodic lattice at alpha 0.25, 0.5, 2 and 3 is part of each column).
+A model whose blocks' alphas meet several bands takes the worst of them; outside every band
+it gets the nearest one and an :class:`~faultnet.exceptions.AccuracyWarning`.
 
 For each treatment the coefficient is read off its column (log-log between the rows, the
 scheme's order below the first) at ``rtol / SAFETY``.  The interpolated treatment is chosen
-from the rtol in :data:`INTERPOLATED_FROM` on (rings 2e-5, 2-D graphs the whole range: where
-it is the faster) when its column covers the model's alpha.  An explicit ``crossings=`` takes
-that treatment's own coefficient.  Resulting settings:
+wherever its column covers the model's alpha: it is the faster at every rtol (events/s of the
+ring workloads W1, W2, W3 against the exact treatment, each at its calibrated step, from
+saved steady states: +0.4% to +2% at rtol 1e-8, +7% to +18% at 1e-7, +14% to +23% at 1e-6,
++27% to +47% at 2e-5; on the lattices by far more).  An explicit ``crossings=`` takes that
+treatment's own coefficient.  Resulting settings:
 
-====== ============== ================ ================ ============== ==================
-rtol   rings, alpha   rings, alpha     rings, alpha     rings, alpha   2-D graphs
-       0-0.1          0.1-0.25, 2-2.5  0.25-2           2.5-5
-====== ============== ================ ================ ============== ==================
-1e-8   exact 0.094    exact 0.094      exact 0.094      exact 0.094    interpolated 0.058
-1e-7   exact 0.149    exact 0.149      exact 0.149      exact 0.148    interpolated 0.105
-1e-6   exact 0.241    exact 0.241      exact 0.241      exact 0.231    interpolated 0.187
-2e-5   exact 0.454    exact 0.479      interpolated     exact 0.400    interpolated 0.405
-                                       0.241
-1e-4   exact 0.666    exact 0.709      interpolated     exact 0.536    interpolated 0.548
-                                       0.350
-====== ============== ================ ================ ============== ==================
+====== ============== ================== ================ ============== ==================
+rtol   rings, alpha   rings, alpha       rings, alpha     rings, alpha   2-D graphs, alpha
+       0-0.1          0.1-0.25, 2-2.5    0.25-2           2.5-5          0.25-3
+====== ============== ================== ================ ============== ==================
+1e-8   exact 0.094    exact 0.094        interpolated     exact 0.094    interpolated 0.107
+                                         0.078
+1e-7   exact 0.149    exact 0.149        interpolated     exact 0.148    interpolated 0.172
+                                         0.124
+1e-6   exact 0.241    exact 0.241        interpolated     exact 0.231    interpolated 0.266
+                                         0.197
+2e-5   exact 0.454    exact 0.479        interpolated     exact 0.400    interpolated 0.456
+                                         0.364
+1e-4   exact 0.666    exact 0.709        interpolated     exact 0.536    interpolated 0.624
+                                         0.531
+====== ============== ================== ================ ============== ==================
 """
 
 from __future__ import annotations
