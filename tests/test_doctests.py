@@ -2,25 +2,21 @@
 
 import doctest
 import importlib
+import pkgutil
 
 import pytest
 
-MODULES = [
-    "faultnet",
-    "faultnet.model",
-    "faultnet.engine",
-    "faultnet.options",
-    "faultnet._validate",
-    "faultnet.runner",
-    "faultnet.spec_run",
-    "faultnet.specs",
-    "faultnet._spec_parser",
-    "faultnet.sweep_config",
-    "faultnet.atomic",
-    "faultnet.summary",
-    "faultnet.stats",
-    "faultnet.dynamics",
-]
+import faultnet
+
+#: every module of the package (``__main__`` would run the command line)
+MODULES = sorted(
+    ["faultnet"]
+    + [
+        m.name
+        for m in pkgutil.walk_packages(faultnet.__path__, "faultnet.")
+        if not m.name.endswith("__main__")
+    ]
+)
 
 
 @pytest.mark.parametrize("name", MODULES)
