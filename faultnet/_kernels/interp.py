@@ -90,7 +90,7 @@ def _stop(b, th, h, graph, work):
     W[b, DN] = xs
     W[b, VN] = 0.0
     W[b, SA] = (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4)) / (h * h)  # a at the stop
-    respond(b, i1, i2, i3, i4, graph, work)
+    respond(b, i1, i2, i3, i4, False, graph, work)
 
 
 @kernel
@@ -133,7 +133,7 @@ def _join(j, th, h, graph, work):
     x, v, i1, i2, i3, i4 = join_path(j, th, h, graph, work)
     W[j, SV] = x
     W[j, SA] = v
-    respond(j, i1, i2, i3, i4, graph, work)
+    respond(j, i1, i2, i3, i4, False, graph, work)
 
 
 @kernel

@@ -28,7 +28,7 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.response import respond_committed
+from faultnet._kernels.response import respond
 from faultnet._kernels.stepping import activate
 
 __all__ = ["joins_near", "refresh"]
@@ -114,12 +114,13 @@ def _late_start(j, over, h, b, graph, work):
     # its slipping neighbours' answer to its path since the join (moments of the cubic start)
     t2 = t * t
     t4 = t2 * t2
-    respond_committed(
+    respond(
         j,
         t2 * t * (a0 / 6.0 + t * jerk / 24.0),
         t4 * (a0 / 24.0 + t * jerk / 120.0),
         t4 * t * (a0 / 120.0 + t * jerk / 720.0),
         t4 * t2 * (a0 / 720.0 + t * jerk / 5040.0),
+        True,
         graph,
         work,
     )

@@ -39,7 +39,6 @@ __all__ = [
     "JOIN_SUBSTEPS",
     "join_path",
     "respond",
-    "respond_committed",
     "stop_moments",
     "stop_position",
 ]
@@ -63,34 +62,27 @@ def _answer(n, k, i1, i2, i3, i4, W, graph):
 
 
 @kernel
-def respond(b, i1, i2, i3, i4, graph, work):
-    """Correct the end velocity and position (VN, DN) of b's slipping neighbours.
+def respond(b, i1, i2, i3, i4, committed, graph, work):
+    """Correct the velocity and position of b's slipping neighbours at the end of the step.
 
     ``i1`` ... ``i4``: the moments ``I_m`` of b's path difference over the rest of the step
-    (module text).
+    (module text).  Before the step is committed the end state (VN, DN) is corrected; after it
+    (``committed``) the committed one (V, and D with the stage columns P and P2).
     """
     W, IW, kval = work.W, work.IW, graph.kval
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         n = graph.indices[p]
         if IW[FLAG, n] == ACTIVE:
             dv, dx = _answer(n, kval[p], i1, i2, i3, i4, W, graph)
-            W[n, VN] += dv
-            W[n, DN] += dx
-
-
-@kernel
-def respond_committed(b, i1, i2, i3, i4, graph, work):
-    """:func:`respond` after the step is committed: the neighbours' V, D, P and P2."""
-    W, IW, kval = work.W, work.IW, graph.kval
-    for p in range(graph.indptr[b], graph.indptr[b + 1]):
-        n = graph.indices[p]
-        if IW[FLAG, n] == ACTIVE:
-            dv, dx = _answer(n, kval[p], i1, i2, i3, i4, W, graph)
-            W[n, V] += dv
-            x = W[n, D] + dx
-            W[n, D] = x
-            W[n, P] = x
-            W[n, P2] = x
+            if committed:
+                W[n, V] += dv
+                x = W[n, D] + dx
+                W[n, D] = x
+                W[n, P] = x
+                W[n, P2] = x
+            else:
+                W[n, VN] += dv
+                W[n, DN] += dx
 
 
 @inline_kernel
