@@ -117,7 +117,7 @@ def _acc(s, x, v, g1, g2, g3, g4, f0, dg, oms, cfr):
     return f0 + s * (g1 + s * (g2 + s * (g3 + s * g4))) - dg * x - oms / den
 
 
-@inline_kernel
+@kernel
 def _neighbours(b, h, graph, work):
     """``G(s)``'s coefficients: the force on b from its moving neighbours' motion in the step.
 
