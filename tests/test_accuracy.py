@@ -39,6 +39,7 @@ def _events(model, count=24):
 
 
 def _slips(model, states, dt, crossings, local_from=32):
+    local_from = local_from if crossings == "exact" else None  # regions: exact crossings only
     opts = faultnet.RunOptions(dt=dt, crossings=crossings, local_regions_from=local_from)
     return np.array(
         [faultnet.simulate(model, 1, x0=s, progress=False, options=opts).events.S.iloc[0]

@@ -95,4 +95,7 @@ def test_each_run_gets_the_entry_kernel_of_its_scheme_and_treatment():
     assert RunOptions(local_regions_from=8, crossings="exact").entry(ring) == (
         "run_events_dopri5_local"
     )
+    # ... and with interpolated crossings it has no effect, which a warning says
+    with pytest.warns(UserWarning, match="local_regions_from=8 has no effect"):
+        assert RunOptions(local_regions_from=8).entry(lattice) == "run_events_dopri5_interpolated"
     assert RunOptions(method="rk4").entry(lattice) == "run_events_rk4"
