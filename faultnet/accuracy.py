@@ -244,20 +244,27 @@ class StepChoice:
     method: str = "dopri5"
 
 
-def _columns(cls, crossings, alpha):
-    """The calibrated rows for the alpha range ``alpha`` = (lowest, highest) of a model.
-
-    Returns ``(rows, covered)``: the worst row over every alpha band the range meets, and
-    the alpha range the bands span (a range outside it is clamped to it).
-    """
+def _covered(cls, crossings):
+    """The alpha range ``(lowest, highest)`` that a treatment's bands span."""
     bands = CALIBRATION[cls][crossings]
-    covered = (min(b[0][0] for b in bands), max(b[0][1] for b in bands))
+    return min(b[0][0] for b in bands), max(b[0][1] for b in bands)
+
+
+def _gap(covered, alpha):
+    """How far the alpha range ``alpha`` reaches outside the calibrated range ``covered``."""
+    return max(covered[0] - alpha[0], alpha[1] - covered[1], 0.0)
+
+
+def _columns(cls, crossings, alpha):
+    """The worst calibrated row over every alpha band that the range ``alpha`` =
+    (lowest, highest) of a model meets (a range outside the bands is clamped to them)."""
+    bands = CALIBRATION[cls][crossings]
+    covered = _covered(cls, crossings)
     lo, hi = (min(max(a, covered[0]), covered[1]) for a in alpha)
     columns = [rows for (a, b), rows in bands if a <= hi and b >= lo]
-    rows = tuple(
+    return tuple(
         (c, max(column[i][1] for column in columns)) for i, (c, _) in enumerate(columns[0])
     )
-    return rows, covered
 
 
 def _coefficient(rows, crossings, target):
@@ -334,26 +341,17 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
     check_crossings(crossings)
     cls = graph_class(model)
     alpha = (float(np.min(model.alpha_values)), float(np.max(model.alpha_values)))
-    coefs, covered, inside = {}, {}, {}
-    for treatment in CROSSINGS:
-        rows, covered[treatment] = _columns(cls, treatment, alpha)
-        coefs[treatment] = _coefficient(rows, treatment, rtol / SAFETY[cls][treatment])
-        lo, hi = covered[treatment]
-        inside[treatment] = lo <= alpha[0] and alpha[1] <= hi
     if crossings is None:
         # the interpolated treatment is the faster at every rtol (module text), unless the
         # exact one is calibrated nearer to this alpha
-        near = _gap(covered["exact"], alpha) < _gap(covered["interpolated"], alpha)
-        crossings = "exact" if near else "interpolated"
-    if not inside[crossings] and model.adjacency.nnz:  # without springs every event is solo
-        _warn_outside(cls, crossings, alpha, covered[crossings])
-    coef = coefs[crossings]
+        gap = {t: _gap(_covered(cls, t), alpha) for t in CROSSINGS}
+        crossings = "exact" if gap["exact"] < gap["interpolated"] else "interpolated"
+    covered = _covered(cls, crossings)
+    if _gap(covered, alpha) > 0.0 and model.adjacency.nnz:  # without springs: solo slips only
+        _warn_outside(cls, crossings, alpha, covered)
+    rows = _columns(cls, crossings, alpha)
+    coef = _coefficient(rows, crossings, rtol / SAFETY[cls][crossings])
     return StepChoice(coef / math.sqrt(omega2_max(model)), coef, crossings, method)
-
-
-def _gap(covered, alpha):
-    """How far the alpha range ``alpha`` reaches outside the calibrated range ``covered``."""
-    return max(covered[0] - alpha[0], alpha[1] - covered[1], 0.0)
 
 
 def _warn_outside(cls, crossings, alpha, covered):

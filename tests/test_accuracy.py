@@ -83,7 +83,8 @@ def test_interpolated_crossings_order():
 def test_interpolated_two_block_events_as_accurate_as_exact(kind):
     """A 2-block event has one interpolated join and two stops: with the neighbours' answer
     to each crossing (friction and springs, ``_kernels.response``) its slip is as accurate as
-    the exact treatment's at the same step.  Without that answer it was 10-15 times worse."""
+    the exact treatment's at the same step (without that answer it is 10-15 times the exact
+    treatment's error)."""
     model = _model(kind)
     states = _events(model, 40)
     two = [

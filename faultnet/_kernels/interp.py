@@ -8,8 +8,9 @@ as it is and applies all the crossings found inside it at its end, from what the
 already computed.  First every listed crossing is located on the step's own values
 (:func:`_locate`), then applied:
 
-- a *stop* of block b at fraction ``th``: b is put at its dense-output position at ``th``
-  (4th order) with v = 0;
+- a *stop* of block b at fraction ``th``: b is put, with v = 0, at the position of its path
+  integrated alone from the start of the step (:func:`faultnet._kernels.response.stop_position`;
+  the step itself carried it on past the stop);
 - a *join* of block j at ``th``: j starts from rest and its path over the rest of the step
   is integrated alone, its neighbours following the step's dense output
   (:func:`faultnet._kernels.response.join_path`).  The dense output moved j's neighbours as

@@ -22,7 +22,7 @@ events on the periodic 150^2 lattice is 15 times smaller at coefficient 0.5, tha
 events on the ring W1 11 times smaller at 0.241.
 
 A joining block's own path over ``[th, 1]`` is integrated here (:func:`join_path`):
-``JOIN_SUBSTEPS`` classical RK4 steps of the block alone, from rest at the threshold, its
+``PATH_SUBSTEPS`` classical RK4 steps of the block alone, from rest at the threshold, its
 slipping neighbours following the step's dense output (a Taylor start to the fourth power
 of the time since the join is not accurate enough to keep the answer above from
 overcorrecting: its error is of the same order).
@@ -36,16 +36,17 @@ from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 
 __all__ = [
-    "JOIN_SUBSTEPS",
+    "PATH_SUBSTEPS",
     "join_path",
     "respond",
     "stop_moments",
     "stop_position",
 ]
 
-#: RK4 sub-steps of a joining block's path over the rest of its step (2 gave the same errors
+#: RK4 sub-steps of a block's own path (a join's over the rest of its step, a stop's up to it;
+#: 2 gave the same errors
 #: as 8 on the 150^2 lattice and the triangular cluster at coefficients 0.405 and 0.5)
-JOIN_SUBSTEPS = 4
+PATH_SUBSTEPS = 4
 
 # 4-point Gauss-Legendre rule on [-1, 1]: exact for the stops' integrands (degree 7)
 _GX = (-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526)
@@ -160,7 +161,7 @@ def _rk4(s0, tau, h, x, v, g1, g2, g3, g4, f0, dg, oms, cfr):
 def stop_position(b, th, h, graph, work):
     """Position of slipping block b at its stop, fraction th of the step.
 
-    ``JOIN_SUBSTEPS`` RK4 steps of b alone from the start of the step to th, its moving
+    ``PATH_SUBSTEPS`` RK4 steps of b alone from the start of the step to th, its moving
     neighbours on the step's dense output.  The step's own end values (and with them its
     dense output and any interpolant through them) continue b past its stop with v < 0, where
     the friction law is continued analytically and floored: at alpha 2 a block's lone slip
@@ -170,9 +171,9 @@ def stop_position(b, th, h, graph, work):
     g1, g2, g3, g4 = _neighbours(b, h, graph, work)
     f0 = force(b, D, W, graph)
     oms, cfr, dg = graph.oms[b], graph.cfr[b], graph.diag[b]
-    tau = th * h / JOIN_SUBSTEPS
+    tau = th * h / PATH_SUBSTEPS
     x, v, s = 0.0, W[b, V], 0.0
-    for _ in range(JOIN_SUBSTEPS):
+    for _ in range(PATH_SUBSTEPS):
         x, v = _rk4(s, tau, h, x, v, g1, g2, g3, g4, f0, dg, oms, cfr)
         s += tau / h
     return W[b, D] + x
@@ -199,10 +200,10 @@ def join_path(j, th, h, graph, work):
     f0 = 1.0 - th * (g1 + th * (g2 + th * (g3 + th * g4)))
     oms, cfr, dg = graph.oms[j], graph.cfr[j], graph.diag[j]
     T = (1.0 - th) * h
-    tau = T / JOIN_SUBSTEPS
+    tau = T / PATH_SUBSTEPS
     x = v = t = 0.0
     i1 = i2 = i3 = i4 = 0.0
-    for _ in range(JOIN_SUBSTEPS):
+    for _ in range(PATH_SUBSTEPS):
         xn, vn = _rk4(th + t / h, tau, h, x, v, g1, g2, g3, g4, f0, dg, oms, cfr)
         # the moments' weights (T - t)^(m - 1) / (m - 1)! and their derivatives at both ends
         u0, u1 = T - t, T - t - tau
