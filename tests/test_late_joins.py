@@ -1,10 +1,12 @@
-"""End-of-step joins of the interpolated treatment (faultnet._kernels.late_joins).
+"""Joins revealed by the crossings of an interpolated step (faultnet._kernels.late_joins).
 
-A stuck block found over the threshold at a step's end crossed it inside the step; the late
-start goes back from the end to where its force was 1.  On a three-block chain whose moving
-neighbour has a constant acceleration the force is exactly quadratic in time, so the crossing
-time is known in closed form: before the end through a slipping neighbour, and before a
-neighbour's stop when that stop revealed the join (a force only rises during an event).
+A stuck block pushed over the threshold by a step's crossings crossed it inside the step.
+Before the commit it starts where its force, on its neighbours' paths (slipping: the dense
+output; stopping: held from the stop on; joining: the cubic of their start), reached 1
+(``_late_theta``); a block that stopped in the step and is still over the threshold at its
+end goes back from the end (``_late_start``).  On a three-block chain whose moving neighbour
+has a constant acceleration the force is exactly quadratic in time, so the crossing time is
+known in closed form.
 """
 
 import numba as nb
@@ -16,20 +18,26 @@ from faultnet._kernels.context import LOC_SIZE
 from faultnet._kernels.integrate import (
     ACTIVE,
     APOS,
+    DN,
     F0,
     FLAG,
+    JOINING,
     N_IWORK,
     N_WORK,
     SA,
+    STOPPING,
     STUCK,
+    SV,
+    VN,
     VS,
     A,
     D,
     P,
     V,
 )
-from faultnet._kernels.late_joins import _late_start
+from faultnet._kernels.late_joins import _late_start, _late_theta
 from faultnet._kernels.layout import CNT_SIZE
+from faultnet._kernels.tableau import KV
 
 K, SIGMA, ALPHA, H = 16.0, 0.01, 1.0, 0.04
 
@@ -39,6 +47,31 @@ def _start(j, over, h, b, W, IW, indptr, indices, kval, diag, oms, cfr):
     graph = Graph(indptr, indices, kval, diag, oms, cfr, 0.0)
     work = Work(W, IW, np.zeros(LOC_SIZE), np.zeros(CNT_SIZE, dtype=np.int64))
     _late_start(j, over, h, b, graph, work)
+
+
+@nb.njit(cache=False)
+def _theta(j, h, W, IW, indptr, indices, kval, diag, oms, cfr):
+    graph = Graph(indptr, indices, kval, diag, oms, cfr, 0.0)
+    work = Work(W, IW, np.zeros(LOC_SIZE), np.zeros(CNT_SIZE, dtype=np.int64))
+    return _late_theta(j, h, graph, work)
+
+
+#: the DP5 stage times (fractions of the step) whose derivatives the dense output reads
+_NODES = (0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0)
+
+
+def _slipping(W, IW, b, v0, a2):
+    """Block b slips through the step with v = v0 + a2 t: its stage rows and end values.
+
+    The dense output reproduces this quadratic path exactly.
+    """
+    IW[FLAG, b] = ACTIVE
+    IW[APOS, b] = 0
+    n = IW.shape[1]
+    for s, c in enumerate(_NODES):
+        W[n, KV + s] = v0 + a2 * c * H
+    W[b, DN] = W[b, D] + v0 * H + 0.5 * a2 * H * H
+    W[b, VN] = v0 + a2 * H
 
 
 def _chain():
@@ -118,3 +151,40 @@ def test_no_crossing_inside_the_step_starts_at_its_beginning():
     v, _ = _expected(H, K * 1e-4)
     np.testing.assert_allclose(W[1, V], v, rtol=1e-12)
     assert np.isfinite(W[1, A])
+
+
+@pytest.mark.parametrize("a2", [0.0, 0.3, -0.03])
+def test_late_theta_through_a_slipping_neighbour(a2):
+    """F = 1 - gap at the step's start; the slipping neighbour closes the gap at t*."""
+    W, IW, g = _chain()
+    v0, gap = 2e-3, 6e-4
+    _slipping(W, IW, 2, v0, a2)
+    W[1, F0] = 1.0 - gap  # every displacement is 0 at the start: F = F0
+    # K (v0 t + a2 t^2 / 2) = gap
+    t_star = gap / (K * v0) if a2 == 0.0 else (-v0 + (v0 * v0 + 2 * a2 * gap / K) ** 0.5) / a2
+    assert 0.0 < t_star < H
+    assert _theta(1, H, W, IW, *g) == pytest.approx(t_star / H, abs=1e-11)
+    # a neighbour that stops after t* does not move the crossing; one over the threshold
+    # at the step's start starts at its beginning
+    IW[FLAG, 2] = STOPPING
+    W[2, VS] = 0.9
+    W[2, SV] = W[2, DN]
+    assert _theta(1, H, W, IW, *g) == pytest.approx(t_star / H, abs=1e-11)
+    W[1, F0] = 1.0 + 1e-9
+    assert _theta(1, H, W, IW, *g) == 0.0
+
+
+def test_late_theta_through_a_joining_neighbour():
+    """Neighbour 2 joined at fraction 0.3 of the step and moves on the cubic from rest to its
+    path's end (x1, v1): the crossing is the cubic's root."""
+    W, IW, g = _chain()
+    tj, x1, v1, gap = 0.3, 4e-6, 3e-4, 3e-5
+    IW[FLAG, 2] = JOINING
+    W[2, VS], W[2, SV], W[2, SA] = tj, x1, v1
+    W[1, F0] = 1.0 - gap
+    L = 1.0 - tj
+    d1 = H * v1 * L  # dx/du at the end, u = (s - tj) / L
+    # K (a u^2 + c u^3) = gap, a = 3 x1 - d1, c = d1 - 2 x1
+    roots = np.roots([d1 - 2 * x1, 3 * x1 - d1, 0.0, -gap / K])
+    u = min(r.real for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0)
+    assert _theta(1, H, W, IW, *g) == pytest.approx(tj + u * L, abs=1e-11)

@@ -65,10 +65,18 @@ from faultnet._kernels.integrate import (
     accel,
     force,
 )
-from faultnet._kernels.jit import kernel
-from faultnet._kernels.late_joins import joins_near, refresh
+from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.late_joins import late_joins, refresh, rejoin
 from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
-from faultnet._kernels.response import join_path, respond, stop_moments, stop_position
+from faultnet._kernels.response import (
+    join_path,
+    neighbour_poly,
+    respond,
+    stop_answer,
+    stop_moments,
+    stop_position,
+    stop_shift,
+)
 from faultnet._kernels.stepping import activate, deactivate, stick_scan
 from faultnet._kernels.tableau import KA, KV, slot_dense, stage_rows
 
@@ -77,21 +85,25 @@ __all__ = ["interpolated_crossings"]
 
 @kernel
 def _stop(b, th, h, graph, work):
-    """Block b stops at fraction th: its end position, neighbours corrected.
+    """Block b stops at fraction th: its stop position, neighbours corrected.
 
-    The position is :func:`faultnet._kernels.response.stop_position`; the neighbours saw b
-    on the step's dense output.  Keeps b's acceleration at the stop in ``W[b, SA]`` (for
-    ``late_joins``).
+    The position is :func:`faultnet._kernels.response.stop_position`, kept in ``W[b, SV]``
+    (and ``P2``, the end positions) until the commit; b's own end values stay, for its dense
+    output.  Keeps b's acceleration at the stop in ``W[b, SA]`` (for ``late_joins``).
     """
-    W = work.W
-    q = work.IW[APOS, b]
-    c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, stage_rows(work), q, KV, W[b, VN])
-    xs = stop_position(b, th, h, graph, work)
+    W, IW = work.W, work.IW
+    K = stage_rows(work)
+    c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, K, IW[APOS, b], KV, W[b, VN])
+    xs = stop_position(b, th, h, graph, work) + stop_shift(b, th, h, graph, work)
     i1, i2, i3, i4 = stop_moments(xs, th, h, c0, c1, c2, c3, c4)
-    W[b, DN] = xs
-    W[b, VN] = 0.0
+    W[b, SV] = xs
+    W[b, P2] = xs
     W[b, SA] = (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4)) / (h * h)  # a at the stop
-    respond(b, i1, i2, i3, i4, False, graph, work)
+    respond(b, -1.0, i1, i2, i3, i4, False, graph, work)
+    for p in range(graph.indptr[b], graph.indptr[b + 1]):
+        m = graph.indices[p]
+        if IW[FLAG, m] == JOINING:
+            stop_answer(m, graph.kval[p], xs, th, h, c0, c1, c2, c3, c4, graph, work)
 
 
 @kernel
@@ -134,48 +146,87 @@ def _join(j, th, h, graph, work):
     x, v, i1, i2, i3, i4 = join_path(j, th, h, graph, work)
     W[j, SV] = x
     W[j, SA] = v
-    respond(j, i1, i2, i3, i4, False, graph, work)
+    W[j, P2] = W[j, D] + x
+    respond(j, th, i1, i2, i3, i4, False, graph, work)
 
 
 @kernel
-def _chained(j, th, h, graph, work):
-    """The fraction at which stuck block j joins, given its neighbours' crossings before th.
+def _push(j, s, h, graph, work):
+    """Force on stuck block j at fraction s beyond the dense output, from earlier crossings.
 
-    The step moved j's neighbours as if none of them stopped or started inside it, so j's
-    force on the dense output reaches 1 at th.  A neighbour m that stops (or starts) at
-    ``W[m, VS] < th`` in fact stays behind (moves ahead) by ``e`` at th, and j's force is
-    higher by ``k e``: a join behind a neighbour's join in the same step, common at a rupture
-    front at the statistics level, comes earlier by ``k e / F'`` (one Newton step).
+    The step moved j's neighbours as if none of them stopped or started inside it.  A
+    neighbour m that stops (or starts) at ``W[m, VS] < s`` in fact stays behind (moves ahead,
+    on the Taylor series of its start) by ``e`` at s, and j's force is higher by ``k e``.
+    Returns (the summed ``k e``, the earliest such crossing or s).
     """
     W, IW, K = work.W, work.IW, stage_rows(work)
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     dF = 0.0
-    lo = th
+    lo = s
     for p in range(indptr[j], indptr[j + 1]):
         m = indices[p]
         fl = IW[FLAG, m]
         if fl != STOPPING and fl != JOINING:
             continue
         tm = W[m, VS]
-        if tm >= th:
+        if tm >= s:
             continue
         if fl == STOPPING:
             c0, c1, c2, c3, c4 = slot_dense(W[m, D], W[m, DN], h, K, IW[APOS, m], KV, W[m, VN])
-            e = c1 * (tm - th) + c2 * (tm**2 - th**2) + c3 * (tm**3 - th**3)
-            e += c4 * (tm**4 - th**4)
+            e = c1 * (tm - s) + c2 * (tm**2 - s**2) + c3 * (tm**3 - s**3)
+            e += c4 * (tm**4 - s**4)
         else:
             a0, jerk, snap = _start_rates(m, tm, h, graph, work)
-            t = (th - tm) * h
+            t = (s - tm) * h
             e = t * t * (0.5 * a0 + t * (jerk / 6.0 + snap * t / 24.0))
         dF += kval[p] * e
         lo = min(lo, tm)
+    return dF, lo
+
+
+@kernel
+def _chained(j, th, h, graph, work):
+    """The fraction at which stuck block j joins, given its neighbours' crossings before th.
+
+    j's force on the dense output reaches 1 at th.  Pushed by neighbours that joined before
+    (:func:`_push`), it reaches 1 earlier: at the root of the dense force plus the push
+    between the earliest such join and th (regula falsi, Illinois variant; the push grows
+    like the cube of the time since a neighbour's join, so one Newton step from th
+    overshoots).  Held back by a neighbour's stop, it joins later by one Newton step.
+    """
+    dF, lo = _push(j, th, h, graph, work)
     if dF == 0.0:
         return th
-    a0, jerk, snap = _start_rates(j, th, h, graph, work)
-    df = jerk - graph.oms[j] * graph.cfr[j] * a0  # F' at th
-    if df <= 0.0:
-        return th
-    return max(th - dF / (h * df), lo)
+    if dF < 0.0:
+        a0, jerk, snap = _start_rates(j, th, h, graph, work)
+        df = jerk - graph.oms[j] * graph.cfr[j] * a0  # F' at th
+        if df <= 0.0:
+            return th
+        return min(th - dF / (h * df), 1.0)
+    g1, g2, g3, g4 = neighbour_poly(j, h, -1.0, graph, work)
+    f0 = force(j, D, work.W, graph) - 1.0
+    a, fa = lo, f0 + lo * (g1 + lo * (g2 + lo * (g3 + lo * g4)))
+    b, fb = th, f0 + th * (g1 + th * (g2 + th * (g3 + th * g4))) + dF
+    if fa >= 0.0 or fb <= 0.0:
+        return lo if fa >= 0.0 else th
+    side = 0
+    for _ in range(30):
+        c = (a * fb - b * fa) / (fb - fa)
+        push, _ = _push(j, c, h, graph, work)
+        fc = f0 + c * (g1 + c * (g2 + c * (g3 + c * g4))) + push
+        if fc >= 0.0:
+            b, fb = c, fc
+            if side == 1:
+                fa *= 0.5
+            side = 1
+        else:
+            a, fa = c, fc
+            if side == -1:
+                fb *= 0.5
+            side = -1
+        if b - a < 1e-10:
+            break
+    return b
 
 
 @kernel
@@ -213,6 +264,41 @@ def _locate(h, ncand, graph, work):
             IW[FLAG, -2 - IW[CAND, c]] = STOPPING
 
 
+@inline_kernel
+def _key(e, W):
+    """Order of the applied crossings: joins by their fraction of the step, then stops."""
+    if e >= 0:
+        return W[e, VS]
+    if e <= -2:
+        return 2.0 + W[-2 - e, VS]
+    return 4.0
+
+
+@kernel
+def _order(ncand, work):
+    """Sort ``IW[CAND, :ncand]`` by :func:`_key` in place (Shell sort, gaps 1, 4, 13, ...).
+
+    Returns the number of crossings kept: the dropped entries (-1) sort last.
+    """
+    W, IW = work.W, work.IW
+    gap = 1
+    while 3 * gap + 1 < ncand:
+        gap = 3 * gap + 1
+    while gap >= 1:
+        for c in range(gap, ncand):
+            e = IW[CAND, c]
+            k = _key(e, W)
+            d = c
+            while d >= gap and _key(IW[CAND, d - gap], W) > k:
+                IW[CAND, d] = IW[CAND, d - gap]
+                d -= gap
+            IW[CAND, d] = e
+        gap //= 3
+    while ncand > 0 and IW[CAND, ncand - 1] == -1:
+        ncand -= 1
+    return ncand
+
+
 @kernel
 def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
     """Apply every crossing the step's scan listed (``IW[CAND]``) at the step's end; commit.
@@ -230,9 +316,7 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
         b = IW[CAND, c]
         if b >= 0:
             W[b, VS] = _chained(b, W[b, VS], h, graph, work)
-    for c in range(ncand):
-        if IW[CAND, c] <= -2:
-            IW[FLAG, -2 - IW[CAND, c]] = ACTIVE
+    ncand = _order(ncand, work)
     # on the step's own values (D, V, A -> DN, VN, AN and the stages), corrected as they go
     for c in range(ncand):
         e = IW[CAND, c]
@@ -242,23 +326,22 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
             th_stop = max(th_stop, th)
         elif e >= 0:
             _join(e, W[e, VS], h, graph, work)
-    # commit the step, then stops, joins and the accelerations they change
+    ncand, ntouch = late_joins(h, ncand, ntouch, w, keys, graph, work)
+    # commit the step (P2: every block's end position), then stops, joins and the
+    # accelerations they change
     for q in range(nact):
         i = IW[ACT, q]
-        x = W[i, DN]
+        x = W[i, P2]
         W[i, D] = x
         W[i, P] = x
-        W[i, P2] = x
         W[i, V] = W[i, VN]
         W[i, A] = W[i, AN]
     for c in range(ncand):
         e = IW[CAND, c]
         if e <= -2:
-            b = -2 - e
-            if IW[FLAG, b] == ACTIVE:
-                nact = deactivate(b, nact, W, IW)
-                cnt[CNT_INTERPOLATED_CROSSINGS] += 1
-        elif e >= 0 and IW[FLAG, e] == JOINING:
+            nact = deactivate(-2 - e, nact, W, IW)
+            cnt[CNT_INTERPOLATED_CROSSINGS] += 1
+        else:
             b = e
             W[b, D] += W[b, SV]
             x = W[b, D]
@@ -271,14 +354,12 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
     for c in range(ncand):
         e = IW[CAND, c]
         b = -2 - e if e <= -2 else e
-        if e != -1:
-            refresh(b, graph, work)
-            if IW[FLAG, b] == ACTIVE:
-                W[b, A] = accel(b, P, V, W, graph)
+        refresh(b, graph, work)
+        if IW[FLAG, b] == ACTIVE:
+            W[b, A] = accel(b, P, V, W, graph)
     for c in range(ncand):
         e = IW[CAND, c]
-        if e != -1:
-            b = -2 - e if e <= -2 else e
-            nact, ntouch = joins_near(b, h, nact, ntouch, w, keys, graph, work)
+        if e <= -2:
+            nact, ntouch = rejoin(-2 - e, h, nact, ntouch, w, keys, graph, work)
     nact = stick_scan(ntouch - ntouch, nact, W, IW)
     return nact, ntouch, th_stop

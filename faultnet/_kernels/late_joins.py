@@ -13,10 +13,17 @@ end, which would make it join up to a whole step late.
 
 from faultnet._kernels.integrate import (
     ACTIVE,
+    APOS,
+    CAND,
     DN,
     FLAG,
+    FRONTIER,
+    JOINING,
     P2,
     SA,
+    STOPPING,
+    STUCK,
+    SV,
     UNTOUCHED,
     VN,
     VS,
@@ -28,10 +35,11 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.response import respond
-from faultnet._kernels.stepping import activate
+from faultnet._kernels.response import join_cubic, join_path, respond, stop_answer
+from faultnet._kernels.stepping import activate, touch
+from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 
-__all__ = ["joins_near", "refresh"]
+__all__ = ["late_joins", "refresh", "rejoin"]
 
 
 @kernel
@@ -116,6 +124,7 @@ def _late_start(j, over, h, b, graph, work):
     t4 = t2 * t2
     respond(
         j,
+        -1.0,
         t2 * t * (a0 / 6.0 + t * jerk / 24.0),
         t4 * (a0 / 24.0 + t * jerk / 120.0),
         t4 * t * (a0 / 120.0 + t * jerk / 720.0),
@@ -143,26 +152,127 @@ def _join_at_threshold(j, h, b, nact, ntouch, w, keys, graph, work):
 
 
 @kernel
-def joins_near(b, h, nact, ntouch, w, keys, graph, work):
-    """Joins at the end of a step near crossing block b: b, its neighbours, and theirs.
+def rejoin(b, h, nact, ntouch, w, keys, graph, work):
+    """Block b stopped in the step; if its force at the step's end is >= 1 it slips again.
 
-    After the step's scan listed every join, only b (stopped or started) and its slipping
-    neighbours (their ends corrected by ``interp._correct``) moved, so a stuck block that reaches
-    the threshold now is a neighbour of b or of one of b's slipping neighbours: scanning
-    there finds every block a scan of the whole event would (the whole event's scan cost a
-    sixth of the time on a 150^2 lattice at rtol 2e-5), in the order of the crossings.
+    Returns (nact, ntouch).
     """
-    indptr, indices, IW = graph.indptr, graph.indices, work.IW
-    nact, ntouch = _join_at_threshold(b, h, b - b - 1, nact, ntouch, w, keys, graph, work)
-    for p in range(indptr[b], indptr[b + 1]):
-        n = indices[p]
-        # only a slipping neighbour was corrected; a stuck one has not moved
-        corrected = IW[FLAG, n] == ACTIVE
-        nact, ntouch = _join_at_threshold(n, h, b, nact, ntouch, w, keys, graph, work)
-        if corrected:
-            for r in range(indptr[n], indptr[n + 1]):
-                if indices[r] != b:  # b is checked above
-                    nact, ntouch = _join_at_threshold(
-                        indices[r], h, b - b - 1, nact, ntouch, w, keys, graph, work
-                    )
-    return nact, ntouch
+    return _join_at_threshold(b, h, b - b - 1, nact, ntouch, w, keys, graph, work)
+
+
+@inline_kernel
+def _offset(n, s, h, K, W, IW):
+    """Displacement of block n at fraction s of the step since the step's start, on its path.
+
+    Slipping: the step's dense output; stopping: the same up to its stop (``W[n, VS]``), then
+    its stop position ``W[n, SV]``; joining: the cubic of :func:`~faultnet._kernels.response.
+    neighbour_poly` from its join on; stuck: 0.
+    """
+    fl = IW[FLAG, n]
+    if fl == ACTIVE or fl == STOPPING:
+        if fl == STOPPING and s > W[n, VS]:
+            return W[n, SV] - W[n, D]
+        _, c1, c2, c3, c4 = slot_dense(W[n, D], W[n, DN], h, K, IW[APOS, n], KV, W[n, VN])
+        return s * (c1 + s * (c2 + s * (c3 + s * c4)))
+    if fl == JOINING:
+        return join_cubic(n, s, h, W)
+    return 0.0
+
+
+@kernel
+def _late_theta(j, h, graph, work):
+    """Fraction of the step at which stuck block j's force reached 1 on its neighbours' paths.
+
+    The force only rises during an event: bisection on ``[0, 1]`` to 2^-40.
+    """
+    W, IW = work.W, work.IW
+    K = stage_rows(work)
+    f0 = force(j, D, W, graph) - 1.0
+    if f0 >= 0.0:
+        return 0.0
+    lo, hi = 0.0, 1.0
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        f = f0
+        for p in range(graph.indptr[j], graph.indptr[j + 1]):
+            f += graph.kval[p] * _offset(graph.indices[p], mid, h, K, W, IW)
+        if f >= 0.0:
+            hi = mid
+        else:
+            lo = mid
+    return hi
+
+
+@kernel
+def _late_join(j, h, graph, work):
+    """Stuck block j, pushed over the threshold by the step's crossings, joins where it did.
+
+    Its path (:func:`~faultnet._kernels.response.join_path`) from the fraction where its force
+    crossed 1, its slipping and earlier-joining neighbours' answer to it, and its own answer to
+    its stopping neighbours.
+    """
+    W, IW = work.W, work.IW
+    K = stage_rows(work)
+    th = _late_theta(j, h, graph, work)
+    IW[FLAG, j] = JOINING
+    W[j, VS] = th
+    x, v, i1, i2, i3, i4 = join_path(j, th, h, graph, work)
+    W[j, SV] = x
+    W[j, SA] = v
+    W[j, P2] = W[j, D] + x
+    respond(j, th, i1, i2, i3, i4, False, graph, work)
+    for p in range(graph.indptr[j], graph.indptr[j + 1]):
+        b = graph.indices[p]
+        if IW[FLAG, b] == STOPPING:
+            c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, K, IW[APOS, b], KV, W[b, VN])
+            stop_answer(j, graph.kval[p], W[b, SV], W[b, VS], h, c0, c1, c2, c3, c4, graph, work)
+
+
+@inline_kernel
+def _check(j, joining, h, ncand, ntouch, w, keys, graph, work):
+    """Stuck block j joins if its force at the step's end (``P2``) is >= 1.
+
+    A block next to a ``joining`` one may not be touched yet (its start force unknown): it is
+    touched here (every neighbour of a slipping block is touched; an untouched neighbour of
+    the block of a solo slip is held, ``solo.solo_slip``).  Returns (ncand, ntouch).
+    """
+    W, IW = work.W, work.IW
+    fl = IW[FLAG, j]
+    if fl == UNTOUCHED and joining:
+        ntouch = touch(j, w, keys, W, IW, ntouch)
+        fl = FRONTIER
+    if fl == STUCK or fl == FRONTIER:
+        if force(j, P2, W, graph) >= 1.0:
+            _late_join(j, h, graph, work)
+            IW[CAND, ncand] = j
+            ncand += 1
+    return ncand, ntouch
+
+
+@kernel
+def late_joins(h, ncand, ntouch, w, keys, graph, work):
+    """Joins revealed by the step's crossings, before the commit; returns (ncand, ntouch).
+
+    After the listed stops and joins are applied (``IW[CAND, :ncand]``), only they and their
+    slipping neighbours have moved from where the step's scan saw them, so a stuck block
+    whose force at the end of the step (``P2``) now reaches 1 is a neighbour of a crossing
+    block or of one of its slipping neighbours.  Each such join is appended to the list (and
+    its own neighbours scanned in turn).  The list holds at most one entry per block.
+    """
+    IW = work.IW
+    indptr, indices = graph.indptr, graph.indices
+    c = 0
+    while c < ncand:
+        e = IW[CAND, c]
+        c += 1
+        b = -2 - e if e <= -2 else e
+        for p in range(indptr[b], indptr[b + 1]):
+            n = indices[p]
+            ncand, ntouch = _check(n, e >= 0, h, ncand, ntouch, w, keys, graph, work)
+            if IW[FLAG, n] == ACTIVE:
+                for r in range(indptr[n], indptr[n + 1]):
+                    if indices[r] != b:
+                        ncand, ntouch = _check(
+                            indices[r], False, h, ncand, ntouch, w, keys, graph, work
+                        )
+    return ncand, ntouch

@@ -31,14 +31,35 @@ overcorrecting: its error is of the same order).
 :class:`~faultnet._kernels.bundles.Work`.
 """
 
-from faultnet._kernels.integrate import ACTIVE, APOS, DN, FLAG, P2, STOPPING, VN, D, P, V, force
+from faultnet._kernels.integrate import (
+    ACTIVE,
+    APOS,
+    DN,
+    FLAG,
+    JOINING,
+    P2,
+    SA,
+    STOPPING,
+    SV,
+    VN,
+    VS,
+    D,
+    P,
+    V,
+    force,
+)
 from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 
 __all__ = [
     "PATH_SUBSTEPS",
+    "answer",
     "join_path",
+    "neighbour_poly",
+    "join_cubic",
     "respond",
+    "stop_answer",
+    "stop_shift",
     "stop_moments",
     "stop_position",
 ]
@@ -54,27 +75,31 @@ _GW = (0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.34785484513
 
 
 @inline_kernel
-def _answer(n, k, i1, i2, i3, i4, W, graph):
-    """(dv, dx) of slipping block n through a spring k to a neighbour's path difference."""
-    den = 1.0 + graph.cfr[n] * 0.5 * (W[n, V] + W[n, VN])
+def answer(n, k, vbar, i1, i2, i3, i4, graph):
+    """(dv, dx) of moving block n (mean velocity ``vbar`` over the step) through a spring k to
+    a neighbour's path difference with moments i1..i4."""
+    den = 1.0 + graph.cfr[n] * vbar
     g = graph.oms[n] * graph.cfr[n] / (den * den)
     dg = graph.diag[n]
     return k * (i1 + g * i2 - dg * i3), k * (i2 + g * i3 - dg * i4)
 
 
 @kernel
-def respond(b, i1, i2, i3, i4, committed, graph, work):
-    """Correct the velocity and position of b's slipping neighbours at the end of the step.
+def respond(b, th, i1, i2, i3, i4, committed, graph, work):
+    """Correct the velocity and position of b's moving neighbours at the end of the step.
 
     ``i1`` ... ``i4``: the moments ``I_m`` of b's path difference over the rest of the step
-    (module text).  Before the step is committed the end state (VN, DN) is corrected; after it
-    (``committed``) the committed one (V, and D with the stage columns P and P2).
+    from ``th`` (module text).  Before the step is committed the end state (VN, DN) of a
+    slipping neighbour is corrected, and that of a neighbour joining before ``th`` (its path
+    end in ``W[n, SV]``, ``W[n, SA]``, :func:`join_path`): it moves over all of
+    ``[th, 1]``; after the commit (``committed``) the committed state (V, and D with the
+    stage columns P and P2).
     """
     W, IW, kval = work.W, work.IW, graph.kval
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         n = graph.indices[p]
         if IW[FLAG, n] == ACTIVE:
-            dv, dx = _answer(n, kval[p], i1, i2, i3, i4, W, graph)
+            dv, dx = answer(n, kval[p], 0.5 * (W[n, V] + W[n, VN]), i1, i2, i3, i4, graph)
             if committed:
                 W[n, V] += dv
                 x = W[n, D] + dx
@@ -84,6 +109,90 @@ def respond(b, i1, i2, i3, i4, committed, graph, work):
             else:
                 W[n, VN] += dv
                 W[n, DN] += dx
+                W[n, P2] = W[n, DN]
+        elif IW[FLAG, n] == JOINING and W[n, VS] < th:
+            dv, dx = answer(n, kval[p], 0.5 * W[n, SA], i1, i2, i3, i4, graph)
+            W[n, SA] += dv
+            W[n, SV] += dx
+            W[n, P2] = W[n, D] + W[n, SV]
+
+
+@kernel
+def stop_answer(m, k, xs, th, h, c0, c1, c2, c3, c4, graph, work):
+    """Joining block m's answer to a neighbour's stop at th (position xs, spring k).
+
+    m's path (:func:`join_path`, end in ``W[m, SV]``, ``W[m, SA]``) saw the stopping
+    neighbour on the step's dense output (coefficients c0..c4), its force normalised to 1 at
+    its join ``tm = W[m, VS]``; the neighbour in fact stays at xs from th on.  The path
+    difference is ``xs - p(s)`` over ``[th, 1]`` if m joined first, ``p(tm) - p(s)`` over
+    ``[tm, 1]`` if the neighbour stopped first.
+    """
+    W = work.W
+    tm = W[m, VS]
+    t0, x0 = th, xs
+    if tm > th:
+        t0 = tm
+        x0 = c0 + tm * (c1 + tm * (c2 + tm * (c3 + tm * c4)))
+    i1, i2, i3, i4 = stop_moments(x0, t0, h, c0, c1, c2, c3, c4)
+    dv, dx = answer(m, k, 0.5 * W[m, SA], i1, i2, i3, i4, graph)
+    W[m, SA] += dv
+    W[m, SV] += dx
+    W[m, P2] = W[m, D] + W[m, SV]
+
+
+@inline_kernel
+def join_cubic(n, s, h, W):
+    """Displacement at fraction s of the step of block n joining in it (0 before its join).
+
+    The cubic from rest at its join (``W[n, VS]``) to the end of its integrated path
+    (:func:`join_path`: ``W[n, SV]``, ``W[n, SA]``).
+    """
+    t = W[n, VS]
+    if s <= t:
+        return 0.0
+    L = 1.0 - t
+    x1, d1 = W[n, SV], h * W[n, SA] * L
+    u = (s - t) / L
+    return u * u * ((3.0 * x1 - d1) + u * (d1 - 2.0 * x1))
+
+
+@kernel
+def stop_shift(b, th, h, graph, work):
+    """Shift of slipping block b's stop (at fraction th) by its neighbours' earlier crossings.
+
+    :func:`stop_position` moves b's neighbours on the step's dense output.  A neighbour that
+    joined before th in fact pushed b from its join on (:func:`join_cubic`), one that stopped
+    before th (its stop already placed, ``W[m, SV]``) held b back: to first order the stop
+    moves by b's answer (:func:`answer`) to those path differences up to th.
+    """
+    W, IW = work.W, work.IW
+    K = stage_rows(work)
+    shift = 0.0
+    for p in range(graph.indptr[b], graph.indptr[b + 1]):
+        m = graph.indices[p]
+        fl = IW[FLAG, m]
+        if (fl != JOINING and fl != STOPPING) or not (W[m, VS] < th):
+            continue
+        t0 = W[m, VS]
+        c0, c1, c2, c3, c4 = slot_dense(W[m, D], W[m, DN], h, K, IW[APOS, m], KV, W[m, VN])
+        half = 0.5 * (th - t0)
+        j1 = j2 = j3 = j4 = 0.0
+        for g in range(4):
+            s = t0 + half * (1.0 + _GX[g])
+            if fl == JOINING:
+                d = join_cubic(m, s, h, W)
+            else:
+                d = W[m, SV] - (c0 + s * (c1 + s * (c2 + s * (c3 + s * c4))))
+            d *= half * _GW[g]
+            u = th - s
+            j1 += d
+            j2 += u * d
+            j3 += 0.5 * u * u * d
+            j4 += u * u * u / 6.0 * d
+        i1, i2, i3, i4 = h * j1, h * h * j2, h**3 * j3, h**4 * j4
+        _, dx = answer(b, graph.kval[p], 0.5 * W[b, V], i1, i2, i3, i4, graph)
+        shift += dx
+    return shift
 
 
 @inline_kernel
@@ -110,7 +219,7 @@ def _acc(s, x, v, g1, g2, g3, g4, f0, dg, oms, cfr):
     """Acceleration of a block alone at fraction s, displacement x and velocity v.
 
     Its force is ``f0 + G(s) - dg x``, ``G(s) = g1 s + ... + g4 s^4`` from its moving
-    neighbours (:func:`_neighbours`).
+    neighbours (:func:`neighbour_poly`).
     """
     den = 1.0 + cfr * v
     if den < 0.5:
@@ -119,24 +228,36 @@ def _acc(s, x, v, g1, g2, g3, g4, f0, dg, oms, cfr):
 
 
 @kernel
-def _neighbours(b, h, graph, work):
+def neighbour_poly(b, h, th, graph, work):
     """``G(s)``'s coefficients: the force on b from its moving neighbours' motion in the step.
 
-    Moving: slipping, or slipping until a stop in this step; they follow the step's dense
-    output.
+    Moving: slipping, or slipping until a stop in this step, on the step's dense output; and
+    the neighbours joining before ``th`` (-1.0: none), whose paths :func:`join_path` has
+    integrated (``W[m, SV]``, ``W[m, SA]`` at the end of the step), on the cubic from rest at
+    their join (``W[m, VS]``) to that end.  The constant term is left out: it cancels.
     """
     W, IW = work.W, work.IW
     K = stage_rows(work)
     g1 = g2 = g3 = g4 = 0.0
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         n = graph.indices[p]
+        k = graph.kval[p]
         if IW[FLAG, n] == ACTIVE or IW[FLAG, n] == STOPPING:
-            k = graph.kval[p]
             _, c1, c2, c3, c4 = slot_dense(W[n, D], W[n, DN], h, K, IW[APOS, n], KV, W[n, VN])
             g1 += k * c1
             g2 += k * c2
             g3 += k * c3
             g4 += k * c4
+        elif IW[FLAG, n] == JOINING and W[n, VS] < th:
+            # x(u) = a u^2 + c u^3, u = (s - t) / L: x(1) = SV, dx/ds(1) = h SA
+            t = W[n, VS]
+            L = 1.0 - t
+            x1, d1 = W[n, SV], h * W[n, SA] * L
+            a = (3.0 * x1 - d1) / (L * L)
+            c = (d1 - 2.0 * x1) / (L * L * L)
+            g1 += k * (3.0 * c * t * t - 2.0 * a * t)
+            g2 += k * (a - 3.0 * c * t)
+            g3 += k * c
     return g1, g2, g3, g4
 
 
@@ -168,7 +289,7 @@ def stop_position(b, th, h, graph, work):
     placed on them is off by 6e-5 at coefficient 0.38, placed here by 3e-6.
     """
     W = work.W
-    g1, g2, g3, g4 = _neighbours(b, h, graph, work)
+    g1, g2, g3, g4 = neighbour_poly(b, h, -1.0, graph, work)
     f0 = force(b, D, W, graph)
     oms, cfr, dg = graph.oms[b], graph.cfr[b], graph.diag[b]
     tau = th * h / PATH_SUBSTEPS
@@ -196,7 +317,7 @@ def join_path(j, th, h, graph, work):
     (slipping, or slipping until a stop in this step) follow the step's dense output; the
     force is 1 at the join.
     """
-    g1, g2, g3, g4 = _neighbours(j, h, graph, work)
+    g1, g2, g3, g4 = neighbour_poly(j, h, th, graph, work)
     f0 = 1.0 - th * (g1 + th * (g2 + th * (g3 + th * g4)))
     oms, cfr, dg = graph.oms[j], graph.cfr[j], graph.diag[j]
     T = (1.0 - th) * h
