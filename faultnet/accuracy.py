@@ -30,21 +30,23 @@ the stiffness matrix plus alpha^2), measured by::
 (each column's text below :data:`CALIBRATION` names the workloads and alphas it is the
 worst of)
 
-====== ============ ============ ============ ============
-coef    ring exact   ring interp  2-D exact    2-D interp
-====== ============ ============ ============ ============
-0.03                 5.0e-11                   1.2e-11
-0.05                 4.9e-10                   8.9e-11
-0.07                 2.9e-09                   9.3e-10
-0.10    1.1e-08      1.8e-08      3.0e-09      3.7e-09
-0.15    8.2e-08      1.2e-07      2.1e-08      2.4e-08
-0.20    3.3e-07      5.4e-07      8.1e-08      1.1e-07
-0.30    2.3e-06      3.8e-06      4.8e-07      9.4e-07
-0.40    7.7e-06      1.6e-05      1.5e-06      4.4e-06
-0.50    1.9e-05      3.9e-05      5.1e-06      1.8e-05
-0.60    3.7e-05      8.2e-05      1.4e-05      4.5e-05
-0.80    1.4e-04      5.1e-04      5.9e-05      9.8e-05
-====== ============ ============ ============ ============
+====== ============ ============ ============ ============ ============
+coef    ring exact   ring interp  2-D exact    2-D interp   2-D interp
+                                               alpha 0.25-  alpha 0.5-3
+                                               0.5
+====== ============ ============ ============ ============ ============
+0.03                 5.9e-11                   1.0e-11      1.1e-11
+0.05                 5.6e-10                   8.6e-11      7.5e-11
+0.07                 3.4e-09                   4.7e-10      5.0e-10
+0.10    1.1e-08      1.9e-08      3.0e-09      3.1e-09      2.9e-09
+0.15    8.2e-08      1.3e-07      2.1e-08      2.3e-08      2.2e-08
+0.20    3.3e-07      4.9e-07      8.1e-08      9.5e-08      8.5e-08
+0.30    2.3e-06      3.2e-06      4.8e-07      6.6e-07      6.0e-07
+0.40    7.7e-06      1.2e-05      1.5e-06      2.6e-06      2.0e-06
+0.50    1.9e-05      3.0e-05      5.1e-06      7.8e-06      5.3e-06
+0.60    3.7e-05      6.2e-05      1.4e-05      1.8e-05      1.2e-05
+0.80    1.4e-04      1.7e-04      5.9e-05      5.7e-05      5.8e-05
+====== ============ ============ ============ ============ ============
 
 The interpolated columns are from 150 events per 2-D workload and 100 per ring.  Events of
 10 or more blocks are less accurate than the 90th percentile over all multi-block events says
@@ -58,32 +60,36 @@ error is 2.0e-5 at alpha 0.05, 1.6e-5 at 0.1, 1.5e-5 at 0.25, 8.5e-6 at 0.5, 6.2
 1.7e-5 at 5, so rings have three bands: 0-0.1 (up to 1.5 times the W1-W3 column's error
 from coefficient 0.4 on), 0.1-2.5 (the W1-W3 column) and 2.5-5 (2-5 times its error); the
 interpolated ring column is W1-W3 (alpha 0.25 to 2).  2-D graphs have one band, 0.25-3, for
-both treatments (the periodic lattice at alpha 0.25, 0.5, 2 and 3 is part of each column).
-A model whose blocks' alphas meet several bands takes the worst of them; outside every band
-it gets the nearest one and an :class:`~faultnet.exceptions.AccuracyWarning`.
+the exact treatment (the periodic lattice at alpha 0.25, 0.5, 2 and 3 is part of its
+column), and two for the interpolated one: 0.25-0.5 (the lattice at alpha 0.25 and 0.5,
+up to 1.5 times the error of the other from coefficient 0.4 on) and 0.5-3 (W4-W6 and the
+lattice at alpha 0.5, 2 and 3).  A model whose blocks' alphas meet several bands takes the
+worst of them; outside every band it gets the nearest one and an
+:class:`~faultnet.exceptions.AccuracyWarning`.
 
 For each treatment the coefficient is read off its column (log-log between the rows, the
 scheme's order below the first) at ``rtol / SAFETY``.  The interpolated treatment is chosen
-wherever its column covers the model's alpha: it is the faster at every rtol (events/s of the
-ring workloads W1, W2, W3 against the exact treatment, each at its calibrated step, from
-saved steady states: +0.4% to +2% at rtol 1e-8, +7% to +18% at 1e-7, +14% to +23% at 1e-6,
-+27% to +47% at 2e-5; on the lattices by far more).  An explicit ``crossings=`` takes that
-treatment's own coefficient.  Resulting settings:
+wherever its column covers the model's alpha and rtol is at least
+:data:`INTERPOLATED_FROM` (1e-7 on rings; everywhere on 2-D graphs): events/s of the ring
+workloads W1, W2, W3 against the exact treatment, each at its calibrated step, from saved
+steady states, are 6% to 8% lower at rtol 1e-8, 1% lower to 7% higher at 1e-7 (W3, W1, W2);
+on the lattices the interpolated treatment is by far the faster.  An explicit
+``crossings=`` takes that treatment's own coefficient.  Resulting settings:
 
 ====== ============== ================== ================ ============== ==================
 rtol   rings, alpha   rings, alpha       rings, alpha     rings, alpha   2-D graphs, alpha
-       0-0.1          0.1-0.25, 2-2.5    0.25-2           2.5-5          0.25-3
+       0-0.1          0.1-0.25, 2-2.5    0.25-2           2.5-5          0.25-0.5 / 0.5-3
 ====== ============== ================== ================ ============== ==================
-1e-8   exact 0.094    exact 0.094        interpolated     exact 0.094    interpolated 0.107
-                                         0.078
-1e-7   exact 0.149    exact 0.149        interpolated     exact 0.148    interpolated 0.172
-                                         0.124
-1e-6   exact 0.241    exact 0.241        interpolated     exact 0.231    interpolated 0.266
-                                         0.197
-2e-5   exact 0.454    exact 0.479        interpolated     exact 0.400    interpolated 0.456
-                                         0.364
-1e-4   exact 0.666    exact 0.709        interpolated     exact 0.536    interpolated 0.624
-                                         0.531
+1e-8   exact 0.094    exact 0.094        exact 0.094      exact 0.094    interpolated 0.110
+                                                                         / 0.112
+1e-7   exact 0.149    exact 0.149        interpolated     exact 0.148    interpolated 0.176
+                                         0.123                           / 0.179
+1e-6   exact 0.241    exact 0.241        interpolated     exact 0.231    interpolated 0.283
+                                         0.201                           / 0.289
+2e-5   exact 0.454    exact 0.479        interpolated     exact 0.400    interpolated 0.528
+                                         0.384                           / 0.576
+1e-4   exact 0.666    exact 0.709        interpolated     exact 0.536    interpolated 0.774
+                                         0.568                           / 0.779
 ====== ============== ================== ================ ============== ==================
 """
 
@@ -101,6 +107,7 @@ from faultnet.options import CROSSINGS, check_crossings
 __all__ = [
     "CALIBRATION",
     "CROSSINGS",
+    "INTERPOLATED_FROM",
     "RTOL_RANGE",
     "StepChoice",
     "graph_class",
@@ -112,12 +119,15 @@ RTOL_RANGE = (1e-8, 1e-4)
 #: the target error is rtol / SAFETY[graph class][treatment]: the table's 90th percentiles come
 #: from 60-150 events each, and other systems scatter about them (interpolated crossings, 60
 #: events 3,000 events after a random start, ``tests/test_accuracy.py``'s systems: a ring of
-#: 200 blocks 3.0e-7, 1.6e-6, 5.2e-6 at coefficients 0.2, 0.3, 0.4, below the ring column; a
-#: periodic 12^2 lattice 6.7e-8, 4.3e-7, 1.1e-6, 3.5e-6 at 0.2 to 0.5, below the 2-D one)
+#: 200 blocks 1.4e-7, 8.3e-7, 3.1e-6 at coefficients 0.2, 0.3, 0.4, below the ring column; a
+#: periodic 12^2 lattice 9.7e-8, 6.6e-7, 2.4e-6, 5.7e-6 at 0.2 to 0.5, up to 1.2 times the
+#: 2-D alpha 0.5-3 one)
 SAFETY = {
     "ring": {"exact": 1.25, "interpolated": 2.0},
     "2-D": {"exact": 1.25, "interpolated": 2.0},
 }
+#: the smallest rtol at which the interpolated treatment is the faster (module text)
+INTERPOLATED_FROM = {"ring": 1e-7, "2-D": RTOL_RANGE[0]}
 #: order of the S error in the step, used below the first row of the table
 ORDER = {"exact": 5.0, "interpolated": 4.0}
 #: (coefficient, 90th-percentile S error) columns from ``benchmarks/calibrate.py``.
@@ -159,17 +169,17 @@ _RING_EXACT_HIGH = (
 )
 #: rings, interpolated: the worst of W1-W3 (100 events each)
 _RING_INTERPOLATED = (
-    (0.03, 5.0e-11),
-    (0.05, 4.9e-10),
-    (0.07, 2.9e-09),
-    (0.1, 1.8e-08),
-    (0.15, 1.2e-07),
-    (0.2, 5.4e-07),
-    (0.3, 3.8e-06),
-    (0.4, 1.6e-05),
-    (0.5, 3.9e-05),
-    (0.6, 8.2e-05),
-    (0.8, 5.1e-04),
+    (0.03, 5.9e-11),
+    (0.05, 5.6e-10),
+    (0.07, 3.4e-09),
+    (0.1, 1.9e-08),
+    (0.15, 1.3e-07),
+    (0.2, 4.9e-07),
+    (0.3, 3.2e-06),
+    (0.4, 1.2e-05),
+    (0.5, 3.0e-05),
+    (0.6, 6.2e-05),
+    (0.8, 1.7e-04),
 )
 #: 2-D graphs, exact: the worst of W4-W6 and the periodic 150^2 lattice at alpha 0.25, 2 and
 #: 3 (which from coefficient 0.5 on have up to 10 times the error of alpha 1)
@@ -183,20 +193,36 @@ _2D_EXACT = (
     (0.6, 1.4e-05),
     (0.8, 5.9e-05),
 )
-#: 2-D graphs, interpolated: the worst of W4-W6 (150 events each) and the periodic 150^2
-#: lattice at alpha 0.25 (100 events), 0.5 (100), 2 and 3 (60)
+#: 2-D graphs, interpolated, alpha 0.5 to 3: the worst of W4-W6 (150 events each) and the
+#: periodic 150^2 lattice at alpha 0.5 (100 events), 2 and 3 (60)
 _2D_INTERPOLATED = (
-    (0.03, 1.2e-11),
-    (0.05, 8.9e-11),
-    (0.07, 9.3e-10),
-    (0.1, 3.7e-09),
-    (0.15, 2.4e-08),
-    (0.2, 1.1e-07),
-    (0.3, 9.4e-07),
-    (0.4, 4.4e-06),
-    (0.5, 1.8e-05),
-    (0.6, 4.5e-05),
-    (0.8, 9.8e-05),
+    (0.03, 1.1e-11),
+    (0.05, 7.5e-11),
+    (0.07, 5.0e-10),
+    (0.1, 2.9e-09),
+    (0.15, 2.2e-08),
+    (0.2, 8.5e-08),
+    (0.3, 6.0e-07),
+    (0.4, 2.0e-06),
+    (0.5, 5.3e-06),
+    (0.6, 1.2e-05),
+    (0.8, 5.8e-05),
+)
+#: 2-D graphs, interpolated, alpha 0.25 to 0.5: the periodic 150^2 lattice at alpha 0.25 and
+#: 0.5 (100 events each), up to 1.5 times the error of the alpha 0.5-3 column from coefficient
+#: 0.4 on
+_2D_INTERPOLATED_LOW = (
+    (0.03, 1.0e-11),
+    (0.05, 8.6e-11),
+    (0.07, 4.7e-10),
+    (0.1, 3.1e-09),
+    (0.15, 2.3e-08),
+    (0.2, 9.5e-08),
+    (0.3, 6.6e-07),
+    (0.4, 2.6e-06),
+    (0.5, 7.8e-06),
+    (0.6, 1.8e-05),
+    (0.8, 5.7e-05),
 )
 #: per graph class and treatment, the alpha bands ``((lowest, highest alpha), column)``; a
 #: model takes the worst column of every band its blocks' alpha range meets (bands share
@@ -212,7 +238,7 @@ CALIBRATION = {
     },
     "2-D": {
         "exact": (((0.25, 3.0), _2D_EXACT),),
-        "interpolated": (((0.25, 3.0), _2D_INTERPOLATED),),
+        "interpolated": (((0.25, 0.5), _2D_INTERPOLATED_LOW), ((0.5, 3.0), _2D_INTERPOLATED)),
     },
 }
 
@@ -310,12 +336,14 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
     >>> lattice = faultnet.CarlsonLanger(grid, k=16, sigma=0.01, alpha=1.0)
     >>> s = step_for_rtol(lattice, 2e-5)
     >>> s.crossings, round(s.coefficient, 3)
-    ('interpolated', 0.456)
+    ('interpolated', 0.576)
     >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16, sigma=0.01, alpha=1.0)
     >>> step_for_rtol(ring, 1e-6).crossings
     'interpolated'
     >>> round(step_for_rtol(ring, 1e-6, crossings="exact").coefficient, 3)
     0.241
+    >>> step_for_rtol(ring, 5e-8).crossings  # below INTERPOLATED_FROM["ring"]
+    'exact'
     >>> slow = faultnet.CarlsonLanger(faultnet.graphs.ring(100), alpha=0.1)
     >>> step_for_rtol(slow, 1e-6).crossings  # interpolated is calibrated from alpha 0.25
     'exact'
@@ -342,10 +370,11 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
     cls = graph_class(model)
     alpha = (float(np.min(model.alpha_values)), float(np.max(model.alpha_values)))
     if crossings is None:
-        # the interpolated treatment is the faster at every rtol (module text), unless the
-        # exact one is calibrated nearer to this alpha
+        # the interpolated treatment is the faster from INTERPOLATED_FROM on (module text),
+        # unless the exact one is calibrated nearer to this alpha
         gap = {t: _gap(_covered(cls, t), alpha) for t in CROSSINGS}
-        crossings = "exact" if gap["exact"] < gap["interpolated"] else "interpolated"
+        nearer = gap["exact"] < gap["interpolated"]
+        crossings = "exact" if nearer or rtol < INTERPOLATED_FROM[cls] else "interpolated"
     covered = _covered(cls, crossings)
     if _gap(covered, alpha) > 0.0 and model.adjacency.nnz:  # without springs: solo slips only
         _warn_outside(cls, crossings, alpha, covered)

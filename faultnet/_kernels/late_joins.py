@@ -1,11 +1,15 @@
-"""Joins at the end of an interpolated step: blocks pushed over the threshold by its crossings.
+"""Joins that a step's crossings reveal: blocks they push over the threshold inside the step.
 
-After :func:`faultnet._kernels.interp.interpolated_crossings` has applied a step's stops and
-joins, the blocks they moved (a stopped or started block b, and b's slipping neighbours, whose
-ends were corrected) may have pushed a stuck neighbour's force to 1: such a block is a
-neighbour of b or of one of b's slipping neighbours (:func:`joins_near`).  Its force passed 1
-inside the step, and it starts where it did (:func:`_late_start`), not at rest at the step's
-end, which would make it join up to a whole step late.
+After :func:`faultnet._kernels.interp.interpolated_crossings` has applied a step's listed
+stops and joins, the blocks they moved (a stopping or joining block b, and b's slipping
+neighbours, whose ends were corrected) may have pushed a stuck neighbour's force to 1 at the
+end of the step: such a block is a neighbour of b or of one of b's slipping neighbours
+(:func:`late_joins`, before the commit, on the end positions in ``P2``).  Its force passed 1
+inside the step, and it starts where it did: at the root of its force on its neighbours'
+paths (:func:`_late_theta`), not at rest at the step's end, which would make it join up to a
+whole step late.  A block that stopped in the step and is over the threshold at its end
+slips again (:func:`rejoin`), from where the force's expansion back from the end crosses 1
+(:func:`_late_start`).
 
 ``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
 :class:`~faultnet._kernels.bundles.Work`.

@@ -21,9 +21,16 @@ of the interpolated treatment: with them the 90th percentile of the S error of 2
 events on the periodic 150^2 lattice is 15 times smaller at coefficient 0.5, that of all
 events on the ring W1 11 times smaller at 0.241.
 
+A neighbour that is itself joining in the step answers the same way over the part of the
+rest of the step it moves in, with its path's end (``W[n, SV]``, ``W[n, SA]``) corrected
+instead (:func:`respond` for a neighbour that joined first, :func:`stop_answer` for a stop).
+A stopping block is held until the commit: the crossings of its neighbours before its stop
+shift the stop by its own answer to them (:func:`stop_shift`).
+
 A joining block's own path over ``[th, 1]`` is integrated here (:func:`join_path`):
 ``PATH_SUBSTEPS`` classical RK4 steps of the block alone, from rest at the threshold, its
-slipping neighbours following the step's dense output (a Taylor start to the fourth power
+slipping neighbours following the step's dense output and those that joined before it the
+cubic from rest to their path's end (:func:`join_cubic`; a Taylor start to the fourth power
 of the time since the join is not accurate enough to keep the answer above from
 overcorrecting: its error is of the same order).
 
@@ -54,9 +61,9 @@ from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 __all__ = [
     "PATH_SUBSTEPS",
     "answer",
+    "join_cubic",
     "join_path",
     "neighbour_poly",
-    "join_cubic",
     "respond",
     "stop_answer",
     "stop_shift",
