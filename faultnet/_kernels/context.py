@@ -10,6 +10,8 @@ handled in local regions (:mod:`faultnet._kernels.local`):
 - ``loc[LOC_NSAVED]``: the number of blocks saved for a fallback (``IW[SLIST]``);
 - ``loc[LOC_STEP_ID]``: the outer step's id (tags the saves of ``IW[SAVE]``);
 - ``loc[LOC_NCAND]``: the crossings listed by the outer step's scan (-1: too many);
+- ``loc[LOC_MOVED]``: with interpolated crossings, the summed moves of the blocks' end
+  positions (``P2``) since the step's scan (``faultnet._kernels.late_joins``);
 - from ``LOC_CACHE``: the dense-output coefficients of boundary blocks (five each);
 - from ``LOC_THETA``: where the outer step put each listed crossing.
 """
@@ -19,6 +21,7 @@ __all__ = [
     "LOC_BND_END",
     "LOC_BND_START",
     "LOC_CACHE",
+    "LOC_MOVED",
     "LOC_NCAND",
     "LOC_NSAVED",
     "LOC_OUTER_H",
@@ -44,8 +47,10 @@ LOC_STEP_ID = 5
 
 #: number of crossings the outer step's scan listed in ``IW[CAND]``
 LOC_NCAND = 6
-#: ``loc[:LOC_CACHE]`` is the region context; then the dense coefficients of boundary blocks
-LOC_CACHE = 7
+#: interpolated crossings: summed |moves| of end positions since the step's scan
+LOC_MOVED = 7
+#: ``loc[:LOC_CACHE]`` is the step context; then the dense coefficients of boundary blocks
+LOC_CACHE = 8
 #: boundary blocks whose coefficients are kept (more are evaluated from their stages)
 BOUNDARY_CACHE = 4096
 #: ``loc[LOC_THETA + k]``: where the outer step put crossing candidate k (2.0: not located)

@@ -149,15 +149,16 @@ def _list(b, th, IW, loc):
 
 
 @inline_kernel
-def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, graph, work):
+def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, keep, graph, work):
     """Fold the crossings owned by active block i into (best, who, kind).
 
     Block i's own stop, and the joins of its stuck neighbours, whose end-of-step
     forces are read from column ``pos`` (every active block's end position).
     With ``listing`` every crossing is also appended to ``IW[CAND]`` (a join
     once per slipping neighbour) for the local regions; a stop at a dip of v
-    (a grazing crossing) is listed as not located.  Returns (best, who, kind, status); a
-    non-finite or runaway velocity stops the scan with its status and the
+    (a grazing crossing) is listed as not located.  With ``keep`` each stuck neighbour's
+    force at the end of the step is kept in its (unused) ``AN`` column.  Returns (best, who,
+    kind, status); a non-finite or runaway velocity stops the scan with its status and the
     block in ``who``.  Inlined into the step's last pass: ``graph`` and ``work``
     (:class:`~faultnet._kernels.bundles.Graph`, ``Work``) cost nothing here.
     """
@@ -178,6 +179,8 @@ def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, gr
         if IW[FLAG, j] == ACTIVE:
             continue
         f1 = force_hot(j, pos, W, graph)
+        if keep:
+            W[j, AN] = f1
         if f1 < 1.0:
             continue
         f0 = force(j, D, W, graph)
@@ -215,6 +218,7 @@ def earliest_crossing(method, h, nact, vmax, graph, work):
             best,
             who,
             kind,
+            False,
             False,
             graph,
             work,

@@ -142,8 +142,10 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     the earliest stop or join inside the step, as
     :func:`faultnet._kernels.crossing.earliest_crossing` would, and returns
     (theta, block, kind, status); otherwise (2.0, -1, 0, STATUS_OK).  With
-    ``scan == 2`` it also lists every crossing for the local regions
-    (``IW[CAND]``, counted from ``loc[LOC_NCAND]``, which the caller zeroes).
+    ``scan >= 2`` it also lists every crossing for the local regions or the interpolated
+    crossings (``IW[CAND]``, counted from ``loc[LOC_NCAND]``, which the caller zeroes); with
+    ``scan == 3`` (interpolated crossings) it keeps each stuck neighbour's force at the end
+    of the step in ``W[j, AN]`` (unused for stuck blocks) for the late joins' check.
 
     Inside a local region (``loc[LOC_BND_END] > loc[LOC_BND_START]``) the boundary blocks'
     positions are written at each stage time from the outer step's dense output; the
@@ -242,7 +244,8 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     kind = np.int64(0)
     if bnd:
         boundary_positions(cp2, th0 + 1.0 * hr, W, K, IW, loc)
-    listing = scan == 2
+    listing = scan >= 2
+    keep = scan == 3
     for q in range(q0, nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]
@@ -250,7 +253,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         if scan:
             # P2 holds every active block's end position (P is being updated)
             best, who, kind, status = block_crossings(
-                1, h, q0, q, i, P2, vmax, best, who, kind, listing, graph, work
+                1, h, q0, q, i, P2, vmax, best, who, kind, listing, keep, graph, work
             )
             if status != STATUS_OK:
                 return best, who, kind, status

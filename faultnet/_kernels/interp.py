@@ -47,7 +47,7 @@ periodic 150^2 lattice 2.9e-5 against 7.0e-6).
 :class:`~faultnet._kernels.bundles.Work`.
 """
 
-from faultnet._kernels.context import LOC_NCAND, LOC_THETA, THETA_CACHE
+from faultnet._kernels.context import LOC_MOVED, LOC_NCAND, LOC_THETA, THETA_CACHE
 from faultnet._kernels.crossing import join_theta, stick_theta
 from faultnet._kernels.integrate import (
     ACT,
@@ -103,6 +103,7 @@ def _stop(b, th, h, graph, work):
     xs = stop_position(b, th, h, graph, work) + stop_shift(b, th, h, graph, work)
     i1, i2, i3, i4 = stop_moments(xs, th, h, c0, c1, c2, c3, c4)
     W[b, SV] = xs
+    work.loc[LOC_MOVED] += abs(xs - W[b, P2])
     W[b, P2] = xs
     W[b, SA] = (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4)) / (h * h)  # a at the stop
     respond(b, -1.0, i1, i2, i3, i4, False, graph, work)
@@ -153,6 +154,7 @@ def _join(j, th, h, graph, work):
     W[j, SV] = x
     W[j, SA] = v
     W[j, P2] = W[j, D] + x
+    work.loc[LOC_MOVED] += abs(x)
     respond(j, th, i1, i2, i3, i4, False, graph, work)
 
 
@@ -323,6 +325,7 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
         if b >= 0:
             W[b, VS] = _chained(b, W[b, VS], h, graph, work)
     ncand = _order(ncand, work)
+    loc[LOC_MOVED] = 0.0
     # on the step's own values (D, V, A -> DN, VN, AN and the stages), corrected as they go
     for c in range(ncand):
         e = IW[CAND, c]

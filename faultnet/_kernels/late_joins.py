@@ -15,8 +15,10 @@ slips again (:func:`rejoin`), from where the force's expansion back from the end
 :class:`~faultnet._kernels.bundles.Work`.
 """
 
+from faultnet._kernels.context import LOC_MOVED
 from faultnet._kernels.integrate import (
     ACTIVE,
+    AN,
     APOS,
     CAND,
     DN,
@@ -224,6 +226,7 @@ def _late_join(j, h, graph, work):
     W[j, SV] = x
     W[j, SA] = v
     W[j, P2] = W[j, D] + x
+    work.loc[LOC_MOVED] += abs(x)
     respond(j, th, i1, i2, i3, i4, False, graph, work)
     for p in range(graph.indptr[j], graph.indptr[j + 1]):
         b = graph.indices[p]
@@ -238,13 +241,21 @@ def _check(j, joining, h, ncand, ntouch, w, keys, graph, work):
 
     A block next to a ``joining`` one may not be touched yet (its start force unknown): it is
     touched here (every neighbour of a slipping block is touched; an untouched neighbour of
-    the block of a solo slip is held, ``solo.solo_slip``).  Returns (ncand, ntouch).
+    the block of a solo slip is held, ``solo.solo_slip``).  Otherwise j is next to a block
+    that slipped through the step, whose scan kept j's force at the end of the step in
+    ``W[j, AN]``: since then no neighbour's end position moved by more than the step's
+    summed moves ``loc[LOC_MOVED]``, so j's force cannot have reached 1 if that force plus
+    their bound (times its springs' sum, ``diag - 1``) is below 1.  Returns (ncand, ntouch).
     """
     W, IW = work.W, work.IW
     fl = IW[FLAG, j]
     if fl == UNTOUCHED and joining:
         ntouch = touch(j, w, keys, W, IW, ntouch)
         fl = FRONTIER
+    elif not joining:
+        reach = (graph.diag[j] - 1.0) * work.loc[LOC_MOVED]
+        if W[j, AN] + reach * (1.0 + 1e-9) + 1e-12 < 1.0:
+            return ncand, ntouch
     if fl == STUCK or fl == FRONTIER:
         if force(j, P2, W, graph) >= 1.0:
             _late_join(j, h, graph, work)

@@ -24,6 +24,8 @@ events on the ring W1 11 times smaller at 0.241.
 A neighbour that is itself joining in the step answers the same way over the part of the
 rest of the step it moves in, with its path's end (``W[n, SV]``, ``W[n, SA]``) corrected
 instead (:func:`respond` for a neighbour that joined first, :func:`stop_answer` for a stop).
+Every such change of a block's end position (column ``P2``) is summed in
+``loc[LOC_MOVED]`` (:mod:`faultnet._kernels.late_joins`).
 A stopping block is held until the commit: the crossings of its neighbours before its stop
 shift the stop by its own answer to them (:func:`stop_shift`).
 
@@ -38,6 +40,7 @@ overcorrecting: its error is of the same order).
 :class:`~faultnet._kernels.bundles.Work`.
 """
 
+from faultnet._kernels.context import LOC_MOVED
 from faultnet._kernels.integrate import (
     ACTIVE,
     APOS,
@@ -117,11 +120,13 @@ def respond(b, th, i1, i2, i3, i4, committed, graph, work):
                 W[n, VN] += dv
                 W[n, DN] += dx
                 W[n, P2] = W[n, DN]
+                work.loc[LOC_MOVED] += abs(dx)
         elif IW[FLAG, n] == JOINING and W[n, VS] < th:
             dv, dx = answer(n, kval[p], 0.5 * W[n, SA], i1, i2, i3, i4, graph)
             W[n, SA] += dv
             W[n, SV] += dx
             W[n, P2] = W[n, D] + W[n, SV]
+            work.loc[LOC_MOVED] += abs(dx)
 
 
 @kernel
@@ -145,6 +150,7 @@ def stop_answer(m, k, xs, th, h, c0, c1, c2, c3, c4, graph, work):
     W[m, SA] += dv
     W[m, SV] += dx
     W[m, P2] = W[m, D] + W[m, SV]
+    work.loc[LOC_MOVED] += abs(dx)
 
 
 @inline_kernel

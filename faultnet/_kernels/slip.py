@@ -187,7 +187,7 @@ def integrate_interpolated(method, ev, nact, ntouch, w, state, ctrl, graph, work
     t = 0.0
     nsteps = 0
     zero = nsteps - nsteps  # int64, not a literal: one compiled signature per kernel
-    scan = zero + 2  # list every crossing of the step
+    scan = zero + 3  # list every crossing of the step, keep the stuck neighbours' forces
     h = dt
     while nact > 0:
         loc[LOC_NCAND] = 0.0
