@@ -20,7 +20,7 @@ is on ``sys.path`` when they run) and provides:
   Figs. 8-10 (paper-scale and fast parameters side by side) and their builder
   :func:`run_magnitudes`.
 
-Recompute stored histograms (hours at paper scale; one process, one core)::
+Recompute stored histograms (about 15 minutes for all at paper scale on one core)::
 
     python examples/_paper_data.py --list
     python examples/_paper_data.py --regenerate fig08_ring_alpha2 fig08_ring_alpha1
