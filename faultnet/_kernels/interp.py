@@ -10,7 +10,7 @@ already computed.  First every listed crossing is located on the step's own valu
 stops:
 
 - a *join* of block j at ``th``: j starts from rest and its path over the rest of the step
-  is integrated alone (:func:`faultnet._kernels.response.join_path`), its slipping and
+  is integrated alone (:func:`faultnet._kernels.response.place_join`), its slipping and
   stopping neighbours on the step's dense output and its neighbours that joined earlier in
   the step on their paths.  The dense output moved j's neighbours as if none of them crossed
   inside the step; a neighbour that started (or stopped) before ``th`` pushes (holds back)
@@ -75,8 +75,8 @@ from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.late_joins import late_joins, refresh, rejoin
 from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 from faultnet._kernels.response import (
-    join_path,
     neighbour_poly,
+    place_join,
     respond,
     stop_answer,
     stop_moments,
@@ -139,23 +139,6 @@ def _start_rates(j, th, h, graph, work):
     jerk = df + g * a0
     snap = ddf - graph.diag[j] * a0 + g * jerk - 2.0 * g * cfr[j] * a0 * a0
     return a0, jerk, snap
-
-
-@kernel
-def _join(j, th, h, graph, work):
-    """Stuck block j reaches the threshold at fraction th: its path, neighbours corrected.
-
-    Its path over the rest of the step is :func:`faultnet._kernels.response.join_path`.
-    Keeps its displacement and velocity at the end of the step in ``W[j, SV]``, ``W[j, SA]``
-    (columns of the RK4 step, free with DP5) for the commit.
-    """
-    W = work.W
-    x, v, i1, i2, i3, i4 = join_path(j, th, h, graph, work)
-    W[j, SV] = x
-    W[j, SA] = v
-    W[j, P2] = W[j, D] + x
-    work.loc[LOC_MOVED] += abs(x)
-    respond(j, th, i1, i2, i3, i4, False, graph, work)
 
 
 @kernel
@@ -334,7 +317,7 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
             _stop(-2 - e, th, h, graph, work)
             th_stop = max(th_stop, th)
         elif e >= 0:
-            _join(e, W[e, VS], h, graph, work)
+            place_join(e, W[e, VS], h, graph, work)
     ncand, ntouch = late_joins(h, ncand, ntouch, w, keys, graph, work)
     # commit the step (P2: every block's end position), then stops, joins and the
     # accelerations they change

@@ -41,7 +41,7 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.response import join_cubic, join_path, respond, stop_answer
+from faultnet._kernels.response import join_cubic, place_join, respond, stop_answer
 from faultnet._kernels.stepping import activate, touch
 from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 
@@ -222,12 +222,7 @@ def _late_join(j, h, graph, work):
     th = _late_theta(j, h, graph, work)
     IW[FLAG, j] = JOINING
     W[j, VS] = th
-    x, v, i1, i2, i3, i4 = join_path(j, th, h, graph, work)
-    W[j, SV] = x
-    W[j, SA] = v
-    W[j, P2] = W[j, D] + x
-    work.loc[LOC_MOVED] += abs(x)
-    respond(j, th, i1, i2, i3, i4, False, graph, work)
+    place_join(j, th, h, graph, work)
     for p in range(graph.indptr[j], graph.indptr[j + 1]):
         b = graph.indices[p]
         if IW[FLAG, b] == STOPPING:

@@ -67,6 +67,7 @@ __all__ = [
     "join_cubic",
     "join_path",
     "neighbour_poly",
+    "place_join",
     "respond",
     "stop_answer",
     "stop_shift",
@@ -151,6 +152,23 @@ def stop_answer(m, k, xs, th, h, c0, c1, c2, c3, c4, graph, work):
     W[m, SV] += dx
     W[m, P2] = W[m, D] + W[m, SV]
     work.loc[LOC_MOVED] += abs(dx)
+
+
+@kernel
+def place_join(j, th, h, graph, work):
+    """Stuck block j joins at fraction th: its path, and its moving neighbours' answer to it.
+
+    Its path over the rest of the step is :func:`join_path`; its displacement and velocity at
+    the end of the step are kept in ``W[j, SV]``, ``W[j, SA]`` (columns of the RK4 step, free
+    with DP5) for the commit, its end position in ``P2``.
+    """
+    W = work.W
+    x, v, i1, i2, i3, i4 = join_path(j, th, h, graph, work)
+    W[j, SV] = x
+    W[j, SA] = v
+    W[j, P2] = W[j, D] + x
+    work.loc[LOC_MOVED] += abs(x)
+    respond(j, th, i1, i2, i3, i4, False, graph, work)
 
 
 @inline_kernel
