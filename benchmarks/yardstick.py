@@ -26,6 +26,11 @@ Run by hand (never a timed test)::
 
     PYTHONPATH=. python benchmarks/yardstick.py W1 W4            # about a minute per workload
     PYTHONPATH=. python benchmarks/yardstick.py --events 100000 --rounds 3  # the full table
+    PYTHONPATH=. python benchmarks/yardstick.py W4 --transient-t 2 3 4  # pooled over 3 states
+
+The event mix of a steady state's window moves the yardstick's events/s by up to 40% on the
+lattices (its work grows with the events' size; faultnet's per-event work less so): several
+``--transient-t`` values pool the codes' times over as many steady states.
 """
 
 from __future__ import annotations
@@ -118,8 +123,9 @@ def _p90(S, ref):
     return float(np.quantile(np.abs(S / ref - 1.0), 0.9))
 
 
-def workload(wid, args, clsim):
-    """Time and accuracy of both codes on one workload at both levels; rows printed."""
+def workload(wid, args, clsim, transient_t):
+    """Time and accuracy of both codes on one workload at both levels, from the steady state at
+    plate time ``transient_t``; rows printed."""
     import faultnet
 
     alpha = WORKLOADS[wid][1]
@@ -128,7 +134,7 @@ def workload(wid, args, clsim):
     if not np.all(adj.data == K):
         raise SystemExit(f"{wid}: the yardstick needs uniform springs k = {K}")
     graph = (adj.indptr.astype(np.int64), adj.indices.astype(np.int64))
-    st, n_trans, t_end, wall = _warm_state(model, args.transient_t)
+    st, n_trans, t_end, wall = _warm_state(model, transient_t)
     x_rel = st.x - st.u  # relative to the plate, which both codes then put at 0
     start = faultnet.State.from_x(x_rel, 0.0)
     print(f"{wid}: {model.n} blocks, transient {n_trans} events to t = {t_end:.2f} ({wall:.0f} s)")
@@ -162,6 +168,7 @@ def workload(wid, args, clsim):
             ybs = float(out["bsteps"].sum()) / args.events
         row = dict(
             wid=wid,
+            t=transient_t,
             level=level,
             rtol=rtol,
             fn=max(tf),
@@ -199,9 +206,26 @@ def _print_row(r):
         f"{rate(r['yard'], r['yard_all']):>24} {r['err_y']:8.1e} {r['fn'] / r['yard']:5.2f} "
         f"{r['fn_bs']:8.0f} {r['fn_part'] / max(r['fn_bs'], 1e-300):5.2f} "
         f"{r['fn_reg'] / max(r['fn_bs'], 1e-300):5.2f} {r['yard_bs']:8.0f} {r['check']:7.1e}  "
-        f"dt {r['opts'].dt:.4g} (coef {r['opts'].coefficient:.3g}), {r['opts'].crossings}",
+        f"dt {r['opts'].dt:.4g} (coef {r['opts'].coefficient:.3g}), {r['opts'].crossings}; "
+        f"state at t = {r['t']:g}",
         flush=True,
     )
+
+
+def _print_pooled(rows, events):
+    """Each code's events/s over all the steady states together (its best round's time at each
+    state summed), their ratio, and the largest 90% error over the states."""
+    print(f"\npooled over the steady states at plate times {sorted({r['t'] for r in rows})}")
+    print(f"{'wl':3} {'level':10} {'faultnet ev/s':>14} {'90% err':>8} {'yardstick ev/s':>15} "
+          f"{'90% err':>8} {'ratio':>5}")  # fmt: skip
+    for key in dict.fromkeys((r["wid"], r["level"]) for r in rows):
+        group = [r for r in rows if (r["wid"], r["level"]) == key]
+        fn = len(group) * events / sum(events / r["fn"] for r in group)
+        yd = len(group) * events / sum(events / r["yard"] for r in group)
+        err_f = max(r["err_f"] for r in group)
+        err_y = max(r["err_y"] for r in group)
+        print(f"{key[0]:3} {key[1]:10} {fn:14,.0f} {err_f:8.1e} {yd:15,.0f} {err_y:8.1e} "
+              f"{fn / yd:5.2f}")  # fmt: skip
 
 
 def main(argv=None):
@@ -211,7 +235,13 @@ def main(argv=None):
     ap.add_argument("--rounds", type=int, default=2, help="alternating rounds (best counts)")
     ap.add_argument("--accuracy-events", type=int, default=60, help="multi-block events")
     ap.add_argument("--levels", nargs="*", choices=[lv[0] for lv in LEVELS])
-    ap.add_argument("--transient-t", type=float, default=2.0)
+    ap.add_argument(
+        "--transient-t",
+        type=float,
+        nargs="+",
+        default=[2.0],
+        help="plate time(s) of the steady state(s); with several, a pooled table follows",
+    )
     here = os.path.dirname(os.path.abspath(__file__))
     ap.add_argument(
         "--yardstick",
@@ -240,10 +270,13 @@ def main(argv=None):
     print(HEADER)
     rows = []
     for wid in ids:
-        rows += workload(wid, args, clsim)
+        for t in args.transient_t:
+            rows += workload(wid, args, clsim, t)
     print("\n" + HEADER)
     for r in rows:
         _print_row(r)
+    if len(args.transient_t) > 1:
+        _print_pooled(rows, args.events)
 
 
 if __name__ == "__main__":
