@@ -93,9 +93,10 @@ __all__ = ["interpolated_crossings"]
 def _stop(b, th, h, graph, work):
     """Block b stops at fraction th: its stop position, neighbours corrected.
 
-    The position is :func:`faultnet._kernels.response.stop_position`, kept in ``W[b, SV]``
-    (and ``P2``, the end positions) until the commit; b's own end values stay, for its dense
-    output.  Keeps b's acceleration at the stop in ``W[b, SA]`` (for ``late_joins``).
+    The position is :func:`faultnet._kernels.response.stop_position`, moved by b's answer to
+    its neighbours' earlier crossings (``stop_shift``), kept in ``W[b, SV]`` (and ``P2``, the
+    end positions) until the commit; b's own end values stay, for its dense output.  Keeps
+    b's acceleration at the stop in ``W[b, SA]`` (for ``late_joins``).
     """
     W, IW = work.W, work.IW
     K = stage_rows(work)
