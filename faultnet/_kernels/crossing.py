@@ -17,7 +17,9 @@ from faultnet._kernels.integrate import (
     APOS,
     CAND,
     FLAG,
+    MARK,
     VN,
+    VS,
     A,
     D,
     P,
@@ -149,7 +151,9 @@ def _list(b, th, IW, loc):
 
 
 @inline_kernel
-def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, keep, graph, work):
+def block_crossings(
+    method, h, q0, q, i, pos, vmax, best, who, kind, listing, keep, stamp, graph, work
+):
     """Fold the crossings owned by active block i into (best, who, kind).
 
     Block i's own stop, and the joins of its stuck neighbours, whose end-of-step
@@ -157,7 +161,10 @@ def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, ke
     With ``listing`` every crossing is also appended to ``IW[CAND]`` (a join
     once per slipping neighbour) for the local regions; a stop at a dip of v
     (a grazing crossing) is listed as not located.  With ``keep`` each stuck neighbour's
-    force at the end of the step is kept in its (unused) ``AN`` column.  Returns (best, who,
+    force at the end of the step is kept in its (unused) ``AN`` column, a join's fraction of
+    the step in its ``VS`` column, and the block tagged with the step's ``stamp`` in
+    ``IW[MARK]``: a stuck block next to several slipping ones is evaluated (and its join
+    located) once per step, and listed again from what was kept.  Returns (best, who,
     kind, status); a non-finite or runaway velocity stops the scan with its status and the
     block in ``who``.  Inlined into the step's last pass: ``graph`` and ``work``
     (:class:`~faultnet._kernels.bundles.Graph`, ``Work``) cost nothing here.
@@ -178,13 +185,20 @@ def block_crossings(method, h, q0, q, i, pos, vmax, best, who, kind, listing, ke
         j = indices[p]
         if IW[FLAG, j] == ACTIVE:
             continue
-        f1 = force_hot(j, pos, W, graph)
+        seen = keep and IW[MARK, j] == stamp  # evaluated for an earlier neighbour in this step
+        f1 = W[j, AN] if seen else force_hot(j, pos, W, graph)
         if keep:
             W[j, AN] = f1
+            IW[MARK, j] = stamp
         if f1 < 1.0:
             continue
-        f0 = force(j, D, W, graph)
-        th = 0.0 if f0 >= 1.0 else join_theta(method, h, q0, j, f0, f1, graph, work)
+        if seen:
+            th = W[j, VS]
+        else:
+            f0 = force(j, D, W, graph)
+            th = 0.0 if f0 >= 1.0 else join_theta(method, h, q0, j, f0, f1, graph, work)
+            if keep:
+                W[j, VS] = th
         if th < best:
             best, who, kind = th, j, JOIN
         if listing:
@@ -220,6 +234,7 @@ def earliest_crossing(method, h, nact, vmax, graph, work):
             kind,
             False,
             False,
+            kind - kind,
             graph,
             work,
         )

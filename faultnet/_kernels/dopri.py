@@ -25,6 +25,7 @@ from faultnet._kernels.context import (
 from faultnet._kernels.crossing import STATUS_OK, block_crossings
 from faultnet._kernels.integrate import ACT, AN, APOS, BND, DN, P2, VN, A, D, P, V, force_hot
 from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.layout import CNT_REGION_IDS
 from faultnet._kernels.tableau import (
     _A21,
     _A31,
@@ -246,6 +247,10 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         boundary_positions(cp2, th0 + 1.0 * hr, W, K, IW, loc)
     listing = scan >= 2
     keep = scan == 3
+    stamp = who - who  # int64
+    if keep:  # a fresh tag for the scan's stuck neighbours (layout.CNT_REGION_IDS never repeats)
+        work.cnt[CNT_REGION_IDS] += 1
+        stamp = work.cnt[CNT_REGION_IDS]
     for q in range(q0, nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]
@@ -253,7 +258,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         if scan:
             # P2 holds every active block's end position (P is being updated)
             best, who, kind, status = block_crossings(
-                1, h, q0, q, i, P2, vmax, best, who, kind, listing, keep, graph, work
+                1, h, q0, q, i, P2, vmax, best, who, kind, listing, keep, stamp, graph, work
             )
             if status != STATUS_OK:
                 return best, who, kind, status

@@ -69,7 +69,9 @@ __all__ = [
 # deceleration in SA: faultnet._kernels.interp)
 D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = range(12)
 N_WORK = 12
-# int work rows (all but the first four are used by local regions, faultnet._kernels.local)
+# int work rows (all but the first four are used by local regions, faultnet._kernels.local;
+# MARK also tags, with interpolated crossings, the blocks a step has evaluated once: fresh tags
+# from layout.CNT_REGION_IDS, which never repeat)
 FLAG, ACT, TOUCH, APOS, MARK, REGION, SAVE, SLIST, BND, CAND, RES, QUEUE = range(12)
 N_IWORK = 12
 # block flags during an event
