@@ -70,8 +70,8 @@ __all__ = [
 D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = range(12)
 N_WORK = 12
 # int work rows (all but the first four are used by local regions, faultnet._kernels.local;
-# MARK also tags, with interpolated crossings, the blocks a step has evaluated once: fresh tags
-# from layout.CNT_REGION_IDS, which never repeat)
+# MARK also tags, with interpolated crossings, the stuck blocks a step's scan has evaluated:
+# fresh tags from layout.CNT_REGION_IDS, which never repeat)
 FLAG, ACT, TOUCH, APOS, MARK, REGION, SAVE, SLIST, BND, CAND, RES, QUEUE = range(12)
 N_IWORK = 12
 # block flags during an event

@@ -58,7 +58,6 @@ from faultnet._kernels.integrate import (
     DN,
     FLAG,
     JOINING,
-    MARK,
     P2,
     SA,
     STOPPING,
@@ -73,8 +72,8 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.late_joins import late_joins, rejoin
-from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS, CNT_REGION_IDS
+from faultnet._kernels.late_joins import late_joins, refresh, rejoin
+from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 from faultnet._kernels.response import (
     neighbour_poly,
     place_join,
@@ -345,19 +344,12 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
             W[b, V] = W[b, SA]
             W[b, VN] = W[b, SA]
             cnt[CNT_INTERPOLATED_CROSSINGS] += 1
-    # the accelerations the crossings changed, each block's once (tagged in IW[MARK]: a
-    # slipping block next to several crossing blocks is common at a rupture front)
-    cnt[CNT_REGION_IDS] += 1
-    stamp = cnt[CNT_REGION_IDS]
     for c in range(ncand):
         e = IW[CAND, c]
         b = -2 - e if e <= -2 else e
-        end = graph.indptr[b + 1]
-        for p in range(graph.indptr[b], end + 1):  # b's neighbours, then b
-            n = graph.indices[p] if p < end else b
-            if IW[FLAG, n] == ACTIVE and IW[MARK, n] != stamp:
-                W[n, A] = accel(n, P, V, W, graph)
-                IW[MARK, n] = stamp
+        refresh(b, graph, work)
+        if IW[FLAG, b] == ACTIVE:
+            W[b, A] = accel(b, P, V, W, graph)
     for c in range(ncand):
         e = IW[CAND, c]
         if e <= -2:
