@@ -187,7 +187,7 @@ def block_crossings(
             continue
         seen = keep and IW[MARK, j] == stamp  # evaluated for an earlier neighbour in this step
         f1 = W[j, AN] if seen else force_hot(j, pos, W, graph)
-        if keep:
+        if keep and not seen:
             W[j, AN] = f1
             IW[MARK, j] = stamp
         if f1 < 1.0:
