@@ -23,9 +23,22 @@ from faultnet._kernels.context import (
     LOC_REGION_T,
 )
 from faultnet._kernels.crossing import STATUS_OK, block_crossings
-from faultnet._kernels.integrate import ACT, AN, APOS, BND, DN, P2, VN, A, D, P, V, force_hot
+from faultnet._kernels.integrate import (
+    ACT,
+    AN,
+    APOS,
+    BND,
+    DN,
+    P2,
+    VN,
+    A,
+    D,
+    P,
+    V,
+    force_hot,
+    new_id,
+)
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.layout import CNT_REGION_IDS
 from faultnet._kernels.tableau import (
     _A21,
     _A31,
@@ -248,9 +261,8 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     listing = scan >= 2
     keep = scan == 3
     stamp = who - who  # int64
-    if keep:  # a fresh tag for the scan's stuck neighbours (layout.CNT_REGION_IDS never repeats)
-        work.cnt[CNT_REGION_IDS] += 1
-        stamp = work.cnt[CNT_REGION_IDS]
+    if keep:
+        stamp = new_id(work.cnt)  # the tag of this step's evaluations of stuck neighbours
     for q in range(q0, nact):
         i = IW[ACT, q]
         W[i, P] = W[i, DN]

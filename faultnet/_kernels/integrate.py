@@ -19,6 +19,7 @@ Invariants kept by every kernel:
 """
 
 from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.layout import CNT_REGION_IDS
 
 __all__ = [
     "A",
@@ -54,6 +55,7 @@ __all__ = [
     "JOINING",
     "STOPPING",
     "accel",
+    "new_id",
     "force",
     "force_hot",
     "rk4_step",
@@ -79,6 +81,16 @@ UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
 # interpolated crossings (faultnet._kernels.interp), within one step: a stuck block that joins
 # inside it, a slipping block that stops inside it (while the crossings are located)
 JOINING, STOPPING = 4, 5
+
+
+@kernel
+def new_id(cnt):
+    """A fresh id (regions, steps, ``IW[MARK]`` tags) from the counter ``cnt[CNT_REGION_IDS]``.
+
+    The counter is never reset, so an id never repeats for the life of the work arrays.
+    """
+    cnt[CNT_REGION_IDS] += 1
+    return cnt[CNT_REGION_IDS]
 
 
 @inline_kernel

@@ -91,6 +91,7 @@ from faultnet._kernels.integrate import (
     V,
     accel,
     force,
+    new_id,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.layout import (
@@ -98,7 +99,6 @@ from faultnet._kernels.layout import (
     CNT_LOCAL_FALLBACKS,
     CNT_LOCAL_STEPS,
     CNT_REGION_BLOCK_STEPS,
-    CNT_REGION_IDS,
     CTRL_MAX_VELOCITY,
 )
 from faultnet._kernels.stepping import apply_crossing, commit, step_scan, to_crossing
@@ -110,13 +110,6 @@ __all__ = ["RHO", "local_step"]
 RHO = 2
 #: a region needing more steps than this falls back (guards against a stall)
 _MAX_SUB_STEPS = 10000
-
-
-@kernel
-def _new_id(cnt):
-    """A fresh id (regions, steps, marks) from the counter ``cnt[CNT_REGION_IDS]``."""
-    cnt[CNT_REGION_IDS] += 1
-    return cnt[CNT_REGION_IDS]
 
 
 @kernel
@@ -544,12 +537,12 @@ def _attempt(hh, nact, ncand, nfirst, ntouch, w, keys, ctrl, graph, work):
     """
     IW, loc, cnt = work.IW, work.loc, work.cnt
     step_id = np.int64(loc[LOC_STEP_ID])  # saves are kept once per step, whatever the attempt
-    base = _new_id(cnt)
-    cur = _new_id(cnt)
+    base = new_id(cnt)
+    cur = new_id(cnt)
     q0 = nact
     uend = q0
     for k in range(ncand):
-        uend = _grow(IW[CAND, k], cur, uend, step_id, _new_id(cnt), graph, work)
+        uend = _grow(IW[CAND, k], cur, uend, step_id, new_id(cnt), graph, work)
         if q0 + 2 * (uend - q0) + _SPARE >= IW.shape[1]:
             return STATUS_OK, q0 - q0, ntouch, q0 - q0, np.int64(-2)
     nres = 0
@@ -557,7 +550,7 @@ def _attempt(hh, nact, ncand, nfirst, ntouch, w, keys, ctrl, graph, work):
     for u in range(q0, uend):
         if IW[REGION, IW[ACT, u]] != cur:
             continue
-        cid = _new_id(cnt)
+        cid = new_id(cnt)
         end = _component(IW[ACT, u], cur, cid, uend, IW, graph.indptr, graph.indices)
         s0 = int(loc[LOC_NSAVED])
         if end < 0 or not _enclose(cid, base, uend, end, step_id, graph, work):
@@ -599,10 +592,10 @@ def local_step(hh, nact, ntouch, w, keys, ctrl, graph, work):
     """
     IW, loc, cnt = work.IW, work.loc, work.cnt
     c4 = cnt[CNT_BLOCK_STEPS]
-    loc[LOC_STEP_ID] = _new_id(cnt)  # saves are kept once per step, whatever the attempt
+    loc[LOC_STEP_ID] = new_id(cnt)  # saves are kept once per step, whatever the attempt
     loc[LOC_OUTER_H] = hh
     loc[LOC_NSAVED] = 0.0
-    mark = _new_id(cnt)
+    mark = new_id(cnt)
     ncand = _listed(mark, IW, loc)
     if ncand < 0:
         ncand = _collect(hh, nact, mark, graph, work)
