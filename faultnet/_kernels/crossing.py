@@ -124,7 +124,7 @@ def join_theta(method, h, q0, j, f0, f1, graph, work):
     return hermite_root(0.0, 1.0, f0 - 1.0, h * df0, f1 - 1.0, h * df1)
 
 
-@inline_kernel
+@kernel
 def candidate(n, b, th, IW, loc):
     """Crossing candidate n of a local step is block b, at fraction ``th`` of the outer step.
 

@@ -85,7 +85,7 @@ _GX = (-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.861136311
 _GW = (0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.3478548451374538)
 
 
-@inline_kernel
+@kernel
 def answer(n, k, vbar, i1, i2, i3, i4, graph):
     """(dv, dx) of moving block n (mean velocity ``vbar`` over the step) through a spring k to
     a neighbour's path difference with moments i1..i4."""
@@ -171,7 +171,7 @@ def place_join(j, th, h, graph, work):
     respond(j, th, i1, i2, i3, i4, False, graph, work)
 
 
-@inline_kernel
+@kernel
 def join_cubic(n, s, h, W):
     """Displacement at fraction s of the step of block n joining in it (0 before its join).
 
@@ -228,7 +228,7 @@ def stop_shift(b, th, h, graph, work):
     return shift
 
 
-@inline_kernel
+@kernel
 def stop_moments(xs, th, h, c0, c1, c2, c3, c4):
     """Moments I1..I4 of ``xs - p(s)`` over ``[th, 1]``: a stop at ``xs`` against the step's
     dense output ``p`` (coefficients c0..c4 in the fraction s of the step of length h).
@@ -294,7 +294,7 @@ def neighbour_poly(b, h, th, graph, work):
     return g1, g2, g3, g4
 
 
-@inline_kernel
+@kernel
 def _rk4(s0, tau, h, x, v, g1, g2, g3, g4, f0, dg, oms, cfr):
     """One classical RK4 step of length tau of a block alone from fraction s0: (x, v)."""
     sm, s1 = s0 + 0.5 * tau / h, s0 + tau / h
@@ -333,7 +333,7 @@ def stop_position(b, th, h, graph, work):
     return W[b, D] + x
 
 
-@inline_kernel
+@kernel
 def _hermite_weighted(tau, x0, v0, x1, v1, w0, w1, dw0, dw1):
     """int over a sub-step of w(t) x(t) dt, Hermite rule (w x and its derivative at both ends)."""
     return 0.5 * tau * (w0 * x0 + w1 * x1) + tau * tau / 12.0 * (

@@ -5,7 +5,7 @@ The tableau is written out as named constants so each stage pass of
 coefficients (20% faster than loops over a coefficient array).
 """
 
-from faultnet._kernels.jit import inline_kernel
+from faultnet._kernels.jit import inline_kernel, kernel
 
 __all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense", "stage_rows"]
 
@@ -51,7 +51,7 @@ def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
     return y0, r2 + r3, r4 + r5 - r3, -(r4 + 2.0 * r5), r5
 
 
-@inline_kernel
+@kernel
 def slot_dense(y0, y1, h, K, q, col, end):
     """:func:`dense_coeffs` of a block whose stage derivatives are in row q of K, columns col + s.
 
