@@ -73,9 +73,14 @@ __all__ = [
 
 @kernel
 def touch(j, w, keys, W, IW, ntouch):
-    """Mark block j touched and store its force at the start of the event."""
+    """Mark block j touched and store its force at the start of the event.
+
+    The force is ``1 + (w - key)``: exactly 1 at the hypocentre, whose key is ``w``, so that
+    its slip equals the cached free single-block slip bit for bit (:mod:`faultnet._kernels.
+    solo`); ``(1 + w) - key`` rounds to 1 +- 2.2e-16 for some keys.
+    """
     IW[FLAG, j] = FRONTIER
-    W[j, F0] = 1.0 + w - keys[j]
+    W[j, F0] = 1.0 + (w - keys[j])
     IW[TOUCH, ntouch] = j
     return ntouch + 1
 
