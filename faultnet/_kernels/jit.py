@@ -9,12 +9,12 @@ compiled code only (from Python they would crash).
 
 Which helpers are inlined by Numba (:data:`inline_kernel`) and which are kernels of their
 own (:data:`kernel`) is a trade between compile time and speed, measured on the cold
-compile of a lattice run (``benchmarks/yardstick.py``'s compile line) and on events/s:
+compile of a lattice run (``benchmarks/run.py --compile-only``) and on events/s:
 
 - Numba types an inlined helper again at each call site, so a small helper called from
-  many places (:func:`~faultnet._kernels.integrate.force`, the dense output, the joining
-  paths' RK4 step) is a kernel: typed once, and LLVM inlines it into its callers anyway
-  (catalogs bit-identical, events/s unchanged); together 2.5 s of a cold compile;
+  many places (:func:`~faultnet._kernels.integrate.force`, the dense output of one block,
+  the neighbours' answers) is a kernel: typed once, and LLVM inlines the small ones into
+  their callers (catalogs bit-identical, events/s within 1%); together 2.5 s of a cold compile;
 - the hot stage loops keep Numba's inlining where LLVM does not inline the call back: the
   DP5 stages' acceleration as a kernel cost 17-22% of events/s on the lattices, and
   :func:`~faultnet._kernels.integrate.accel` and the landing's septic helpers as kernels 6%
