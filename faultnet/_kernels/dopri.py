@@ -132,9 +132,8 @@ def boundary_positions(col, th, W, K, IW, loc):
 @kernel
 def boundary_at(th, W, K, IW, loc):
     """The boundary blocks at fraction ``th`` of the outer step, in both stage columns P and P2."""
-    col = int(loc[LOC_BND_START] - loc[LOC_BND_START]) + P
-    boundary_positions(col, th, W, K, IW, loc)
-    boundary_positions(col + (P2 - P), th, W, K, IW, loc)
+    boundary_positions(P, th, W, K, IW, loc)
+    boundary_positions(P2, th, W, K, IW, loc)
 
 
 @inline_kernel
@@ -172,9 +171,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     K = stage_rows(work)
     bnd = loc[LOC_BND_END] > loc[LOC_BND_START]
     th0 = loc[LOC_REGION_T]
-    # runtime column numbers: one compiled signature of boundary_positions
-    cp = nact - nact + P
-    cp2 = cp + (P2 - P)
+    cp, cp2 = P, P2
     hr = h / loc[LOC_OUTER_H] if bnd else 0.0
     for q in range(q0, nact):
         i = IW[ACT, q]

@@ -18,6 +18,8 @@ Invariants kept by every kernel:
   and has its starting force in ``W[j, F0]``.
 """
 
+import numpy as np
+
 from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.layout import CNT_REGION_IDS
 
@@ -69,7 +71,9 @@ __all__ = [
 # float work columns of W (SV, SA, VS are the RK4 step's; with DP5 the interpolated crossings
 # keep a crossing's fraction of the step in VS, a join's start in SV and SA, a stop's
 # deceleration in SA: faultnet._kernels.interp)
-D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = range(12)
+# (NumPy integers, not Python ints: Numba types them int64, not as literals, so a kernel
+# that takes a column compiles one signature for all of them)
+D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = (np.int64(c) for c in range(12))
 N_WORK = 12
 # int work rows (all but the first four are used by local regions, faultnet._kernels.local;
 # MARK also tags, with interpolated crossings, the stuck blocks a step's scan has evaluated:

@@ -75,6 +75,7 @@ from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.late_joins import late_joins, refresh, rejoin
 from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 from faultnet._kernels.response import (
+    BEFORE_COMMIT,
     neighbour_poly,
     place_join,
     respond,
@@ -107,7 +108,7 @@ def _stop(b, th, h, graph, work):
     work.loc[LOC_MOVED] += abs(xs - W[b, P2])
     W[b, P2] = xs
     W[b, SA] = (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4)) / (h * h)  # a at the stop
-    respond(b, -1.0, i1, i2, i3, i4, False, graph, work)
+    respond(b, -1.0, i1, i2, i3, i4, BEFORE_COMMIT, graph, work)
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         m = graph.indices[p]
         if IW[FLAG, m] == JOINING:

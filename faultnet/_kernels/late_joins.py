@@ -41,7 +41,7 @@ from faultnet._kernels.integrate import (
     force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.response import join_cubic, place_join, respond, stop_answer
+from faultnet._kernels.response import COMMITTED, join_cubic, place_join, respond, stop_answer
 from faultnet._kernels.stepping import activate, touch
 from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 
@@ -135,7 +135,7 @@ def _late_start(j, over, h, b, graph, work):
         t4 * (a0 / 24.0 + t * jerk / 120.0),
         t4 * t * (a0 / 120.0 + t * jerk / 720.0),
         t4 * t2 * (a0 / 720.0 + t * jerk / 5040.0),
-        True,
+        COMMITTED,
         graph,
         work,
     )

@@ -44,6 +44,8 @@ answer above from overcorrecting: its error is of the same order).
 :class:`~faultnet._kernels.bundles.Work`.
 """
 
+import numpy as np
+
 from faultnet._kernels.context import LOC_MOVED
 from faultnet._kernels.integrate import (
     ACTIVE,
@@ -66,6 +68,8 @@ from faultnet._kernels.jit import kernel
 from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 
 __all__ = [
+    "BEFORE_COMMIT",
+    "COMMITTED",
     "answer",
     "join_cubic",
     "join_path",
@@ -77,6 +81,12 @@ __all__ = [
     "stop_moments",
     "stop_position",
 ]
+
+#: :func:`respond`'s ``committed``: NumPy booleans, which Numba types as ``boolean``, not as
+#: literals, so that both values share one compiled signature
+BEFORE_COMMIT, COMMITTED = np.bool_(False), np.bool_(True)
+#: the first moment's order, an int64 for the same reason (:func:`_moment`)
+_FIRST = np.int64(1)
 
 # 4-point Gauss-Legendre rule on [-1, 1]: exact for the stops' integrands (degree 7)
 _GX = (-0.8611363115940526, -0.3399810435848563, 0.3399810435848563, 0.8611363115940526)
@@ -166,7 +176,7 @@ def place_join(j, th, h, graph, work):
     W[j, SA] = v
     W[j, P2] = W[j, D] + x
     work.loc[LOC_MOVED] += abs(x)
-    respond(j, th, i1, i2, i3, i4, False, graph, work)
+    respond(j, th, i1, i2, i3, i4, BEFORE_COMMIT, graph, work)
 
 
 @kernel
@@ -386,4 +396,5 @@ def join_path(j, th, h, graph, work):
     a = _series(0.0, 1.0, p1, p2, p3, g4 * r**4, graph.diag[j], graph.oms[j], graph.cfr[j])
     T = (1.0 - th) * h
     x, v = _at(T, a)
-    return x, v, _moment(T, 1, a), _moment(T, 2, a), _moment(T, 3, a), _moment(T, 4, a)
+    m = _FIRST
+    return x, v, _moment(T, m, a), _moment(T, m + 1, a), _moment(T, m + 2, a), _moment(T, m + 3, a)

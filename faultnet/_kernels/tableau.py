@@ -5,6 +5,8 @@ The tableau is written out as named constants so each stage pass of
 coefficients (20% faster than loops over a coefficient array).
 """
 
+import numpy as np
+
 from faultnet._kernels.jit import inline_kernel, kernel
 
 __all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense", "stage_rows"]
@@ -14,8 +16,8 @@ __all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense", "stage_rows"]
 # 96 bytes, which counts on graphs that do not fit in the cache, and the kernels still take one
 # array (a second array in the ``Work`` bundle cost the ring W1 3-5%: every crossing kernel
 # takes the bundle).  :func:`stage_rows` is the view of those rows.
-KV = 0  # 6 columns of stage velocities
-KA = 6  # 6 columns of stage accelerations
+KV = np.int64(0)  # 6 columns of stage velocities (int64, not a literal: see integrate.D)
+KA = np.int64(6)  # 6 columns of stage accelerations
 N_STAGE = 12
 
 # Butcher tableau (Dormand & Prince 1980)
