@@ -37,8 +37,7 @@ DENSE_UP_TO = 256
 def _lanczos_top(matrix, steps):
     """Largest Ritz value of ``steps`` Lanczos steps on the symmetric ``matrix``.
 
-    The tridiagonal matrix is at most ``steps`` wide, so NumPy's dense ``eigvalsh`` takes it
-    (``scipy.linalg`` would add its import, 0.04 s, to a run's start).
+    The tridiagonal matrix is at most ``steps`` wide, so NumPy's dense ``eigvalsh`` takes it.
     """
     n = matrix.shape[0]
     v = np.random.default_rng(0).standard_normal(n)
