@@ -43,6 +43,7 @@ def _size(path):
 
 
 def cmd_simulate(args, out):
+    from faultnet.io import check_catalog_path
     from faultnet.spec_run import run_from_spec
     from faultnet.summary import catalog_stats, format_stats
 
@@ -52,6 +53,8 @@ def cmd_simulate(args, out):
         raise InvalidParameterError("--events N is required")
     if args.out is None and args.resume:
         raise InvalidParameterError("--resume needs --out FILE: the catalog to continue")
+    if args.out is not None:
+        check_catalog_path(args.out, "--out")
     tic = time.perf_counter()
     report = run_from_spec(
         args.graph,

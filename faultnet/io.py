@@ -53,6 +53,7 @@ from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExist
 
 __all__ = [
     "CATALOG_FORMAT",
+    "CATALOG_SUFFIX",
     "FORMAT_VERSION",
     "METADATA_KEY",
     "Catalog",
@@ -61,6 +62,7 @@ __all__ = [
     "atomic_path",
     "atomic_write_bytes",
     "atomic_write_json",
+    "check_catalog_path",
     "check_event_count",
     "check_event_numbers",
     "events_to_table",
@@ -82,12 +84,36 @@ __all__ = [
 
 CATALOG_FORMAT = "faultnet-catalog"
 FORMAT_VERSION = 1
+#: how a catalog file's name ends
+CATALOG_SUFFIX = ".parquet"
 #: key of the JSON metadata in the Parquet schema metadata
 METADATA_KEY = b"faultnet"
 _COMPRESSION = "zstd"
 
 
 # --------------------------------------------------------------------------- metadata
+
+
+def check_catalog_path(path, name="path"):
+    """``path`` as a string; an error naming ``name`` unless it ends in ``.parquet``.
+
+    A catalog is a Parquet file whatever its name, so a name such as ``cat.csv`` would hide
+    what the file holds from every other program.
+
+    >>> check_catalog_path("runs/ring.parquet")
+    'runs/ring.parquet'
+    >>> check_catalog_path("ring.csv", "--out")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    faultnet.exceptions.InvalidParameterError: --out must name a .parquet file (...); got 'ring.csv'
+    """
+    text = os.fspath(path)
+    if not text.endswith(CATALOG_SUFFIX):
+        raise InvalidParameterError(
+            f"{name} must name a {CATALOG_SUFFIX} file (catalogs are Parquet: pandas.read_parquet "
+            f"or faultnet.read_catalog reads them, DataFrame.to_csv converts); got {text!r}"
+        )
+    return text
 
 
 def _encode_metadata(md):
@@ -356,7 +382,7 @@ def iter_catalog(path, batch_size=1_000_000, columns=None):
 
 
 def write_catalog(obj, path, metadata=None, *, overwrite=False):
-    """Write a :class:`~faultnet.SimulationResult` or events DataFrame to ``path``.
+    """Write a :class:`~faultnet.SimulationResult` or events DataFrame to ``path`` (``.parquet``).
 
     The metadata is the result's ``metadata`` (with the graph hash and
     provenance added) updated by ``metadata``.  Refuses to replace an existing
@@ -369,6 +395,7 @@ def write_catalog(obj, path, metadata=None, *, overwrite=False):
     """
     from faultnet.catalog import SimulationResult
 
+    path = check_catalog_path(path)
     if isinstance(obj, SimulationResult):
         from faultnet.specs import graph_hash
 

@@ -41,7 +41,7 @@ from faultnet.checkpoint import (
     run_identity,
 )
 from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
-from faultnet.io import read_metadata, verify_catalog
+from faultnet.io import check_catalog_path, read_metadata, verify_catalog
 from faultnet.lock import LOCK_SUFFIX, output_lock
 
 __all__ = [
@@ -79,8 +79,8 @@ def simulate_to_parquet(
     model : CarlsonLanger
     n_events : int
     out : str, os.PathLike or None
-        Catalog file to write.  None runs without writing (only magnitudes
-        are kept, in :attr:`RunReport.magnitudes`).
+        Catalog file to write, a name ending in ``.parquet``.  None runs without
+        writing (only magnitudes are kept, in :attr:`RunReport.magnitudes`).
     rng : None, int, SeedSequence or Generator
         Seed of the initial state (SPEC 7), recorded in the metadata.  On
         ``resume`` None means "the seed of the checkpoint".
@@ -123,7 +123,7 @@ def simulate_to_parquet(
         seq = seed_sequence(rng)
         identity = run_identity(model, job["n_events"], step, job["options"], seq)
         return run_loop(out=None, wd=None, seq=seq, resume_point=None, identity=identity, **job)
-    out = os.fspath(out)
+    out = check_catalog_path(out, "out")
     wd = checkpoint_dir(out)
     folder = os.path.dirname(os.path.abspath(out))
     if not os.path.isdir(folder):

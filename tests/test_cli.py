@@ -107,6 +107,9 @@ def test_bad_input_exit_codes(tmp_path, capsys):
     assert main(["simulate", "ring:10"]) == 2
     assert "--events N is required" in capsys.readouterr().err
     assert main(["simulate", "--resume", "--events", "10"]) == 2
+    assert main(["simulate", "ring:10", "--events", "10", "--out", str(tmp_path / "c.csv")]) == 2
+    assert "--out must name a .parquet file" in capsys.readouterr().err
+    assert not (tmp_path / "c.csv").exists()
     assert main(["info", str(tmp_path / "nope.parquet")]) == 2
     (tmp_path / "junk.parquet").write_bytes(b"PAR1 not really")
     assert main(["info", str(tmp_path / "junk.parquet")]) == 1

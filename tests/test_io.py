@@ -12,7 +12,7 @@ import pytest
 import faultnet
 from faultnet import io as fio
 from faultnet.atomic import atomic_path
-from faultnet.exceptions import CatalogError, OutputExistsError
+from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
 from faultnet.specs import graph_hash
 
 
@@ -74,6 +74,17 @@ def test_never_overwrites_and_atomic(tmp_path, ring_result):
     assert sorted(os.listdir(tmp_path)) == ["cat.parquet"]
     fio.write_catalog(ring_result, path, metadata={"v": 2}, overwrite=True)
     assert fio.read_metadata(path)["v"] == 2
+
+
+def test_catalog_names_end_in_parquet(tmp_path, ring_result):
+    """A catalog is Parquet whatever its name: a .csv name is refused, before anything runs."""
+    for name in ("cat.csv", "cat", "cat.parquet.tmp"):
+        with pytest.raises(InvalidParameterError, match=r"path must name a \.parquet file"):
+            fio.write_catalog(ring_result, tmp_path / name)
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
+    with pytest.raises(InvalidParameterError, match=r"out must name a \.parquet file.*cat\.csv"):
+        faultnet.simulate_to_parquet(model, 10, tmp_path / "cat.csv", rng=1, progress=False)
+    assert os.listdir(tmp_path) == []
 
 
 def test_bad_files_are_reported(tmp_path, ring_result):
