@@ -203,11 +203,21 @@ def cmd_info(args, out):
     return EXIT_OK
 
 
+def _check_csv(path, force):
+    """Refuse ``--csv`` before any work: a name not ending in .csv, or a file there without
+    ``--force``."""
+    if path is None:
+        return
+    if not path.endswith(".csv"):
+        raise InvalidParameterError(f"--csv must name a .csv file; got {path!r}")
+    if os.path.exists(path) and not force:
+        raise OutputExistsError(f"{path} exists; refusing to overwrite it (use --force)")
+
+
 def _write_csv(table, path, force):
     from faultnet.atomic import atomic_path
 
-    if os.path.exists(path) and not force:
-        raise OutputExistsError(f"{path} exists; refusing to overwrite it (use --force)")
+    _check_csv(path, force)
     with atomic_path(path) as tmp:
         table.to_csv(tmp, index=False)
 
@@ -246,6 +256,7 @@ def cmd_sweep(args, out):
 
     if args.scheduler and args.workers:
         raise InvalidParameterError("give either --workers or --scheduler, not both")
+    _check_csv(args.csv, args.force)
 
     def log(msg):
         if not args.quiet:
@@ -282,6 +293,7 @@ def cmd_sweep(args, out):
 def cmd_summarize(args, out):
     from faultnet.sweep import summarize
 
+    _check_csv(args.csv, args.force)
     table = summarize(args.folder, transient=args.transient, m_min=args.m_min, m_max=args.m_max)
     _print_table(table, out)
     if args.csv:

@@ -263,7 +263,7 @@ def _add_sweep(sub):
         action="store_true",
         help="write into a folder with foreign files or another sweep's settings",
     )
-    p.add_argument("--csv", metavar="FILE", help="also write the summary table as CSV")
+    p.add_argument("--csv", metavar="FILE", help="also write the summary table to this .csv file")
     _progress_flag(p)
     p.add_argument("--quiet", "-q", action="store_true", help="print only errors")
 
@@ -276,7 +276,7 @@ def _add_summarize(sub):
         formatter_class=_Formatter,
     )
     p.add_argument("folder", metavar="DIR", help="sweep output folder (or a folder of catalogs)")
-    p.add_argument("--csv", metavar="FILE", help="write the table as CSV")
+    p.add_argument("--csv", metavar="FILE", help="write the table to this .csv file")
     p.add_argument("--force", action="store_true", help="overwrite an existing --csv file")
     p.add_argument(
         "--transient",

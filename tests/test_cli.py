@@ -247,6 +247,14 @@ def test_sweep_and_summarize_commands(tmp_path, capsys):
     )
     assert main(["info", str(tmp_path / "a")]) == 2
     assert "faultnet summarize" in capsys.readouterr().err
+    # a --csv the sweep could not write is refused before any point runs
+    toml.with_name("b.toml").write_text(toml.read_text())
+    b = ["sweep", str(toml.with_name("b.toml")), "--workers", "1", "--csv"]
+    assert main([*b, str(tmp_path / "a.csv")]) == 2
+    assert "refusing to overwrite" in capsys.readouterr().err
+    assert main([*b, str(tmp_path / "b.parquet")]) == 2
+    assert "--csv must name a .csv file" in capsys.readouterr().err
+    assert not (tmp_path / "b").exists() and not (tmp_path / "b.parquet").exists()
     toml.write_text('[sweep]\ngraph = "ring:30"\nalpah = 1\nevents = 300\n')
     assert main(["sweep", str(toml)]) == 2
     assert "unknown key 'alpah'" in capsys.readouterr().err
