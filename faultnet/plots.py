@@ -22,6 +22,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from faultnet.exceptions import InvalidParameterError
+
 __all__ = [
     "plot_graph",
     "plot_magnitude_distribution",
@@ -128,7 +130,7 @@ def plot_profiles(profiles, t=None, ax=None, subtract_mean=False, cmap="viridis"
     """
     x = np.asarray(profiles, dtype=np.float64)
     if x.ndim != 2 or 0 in x.shape:
-        raise ValueError(f"profiles must have shape (n_events, N); got {x.shape}")
+        raise InvalidParameterError(f"profiles must have shape (n_events, N); got {x.shape}")
     if subtract_mean:
         x = x - x.mean(axis=1, keepdims=True)
     ax = _axes(ax)
@@ -146,7 +148,9 @@ def plot_profiles(profiles, t=None, ax=None, subtract_mean=False, cmap="viridis"
     else:
         t = np.asarray(t, dtype=np.float64)
         if t.shape != (n_events,):
-            raise ValueError(f"t must have one entry per profile ({n_events}); got {t.shape}")
+            raise InvalidParameterError(
+                f"t must have one entry per profile ({n_events}); got {t.shape}"
+            )
         last = t[-1] - t[-2] if n_events > 1 else 1.0
         edges = np.append(t, t[-1] + (last if last > 0 else 1.0))
         image = ax.pcolormesh(np.arange(n + 1) - 0.5, edges, x, cmap=cmap, shading="flat")
@@ -176,7 +180,9 @@ def plot_time_series(t, values, ax=None, kind="S", **kw):
     t = np.asarray(t, dtype=np.float64)
     values = np.asarray(values, dtype=np.float64)
     if t.shape != values.shape or t.ndim != 1:
-        raise ValueError(f"t and values must be 1-D of equal length; got {t.shape}, {values.shape}")
+        raise InvalidParameterError(
+            f"t and values must be 1-D of equal length; got {t.shape}, {values.shape}"
+        )
     ax = _axes(ax)
     if kind == "S":
         ax.vlines(t, 0.0, values, **kw)
@@ -187,7 +193,7 @@ def plot_time_series(t, values, ax=None, kind="S", **kw):
         ax.plot(t, values, **kw)
         ax.set_ylabel("Δ")
     else:
-        raise ValueError(f"kind must be 'S' or 'delta'; got {kind!r}")
+        raise InvalidParameterError(f"kind must be 'S' or 'delta'; got {kind!r}")
     ax.set_xlabel("t")
     return ax
 
@@ -280,7 +286,9 @@ def plot_graph(graph, ax=None, color_by=None, linewidth=0.5, max_edge_length=Non
     colors = "0.2"
     if isinstance(color_by, str):
         if color_by != "component":
-            raise ValueError(f"color_by must be None, 'component' or an array; got {color_by!r}")
+            raise InvalidParameterError(
+                f"color_by must be None, 'component' or an array; got {color_by!r}"
+            )
         label = np.empty(len(nodes), dtype=np.int64)
         comps = sorted(nx.connected_components(graph), key=len, reverse=True)
         for c, comp in enumerate(comps):
@@ -295,7 +303,7 @@ def plot_graph(graph, ax=None, color_by=None, linewidth=0.5, max_edge_length=Non
     if color_by is not None and not isinstance(color_by, str):
         values = np.asarray(color_by, dtype=np.float64)
         if values.shape != (len(nodes),):
-            raise ValueError(
+            raise InvalidParameterError(
                 f"color_by needs one value per node ({len(nodes)}); got {values.shape}"
             )
         dots = ax.scatter(xy[:, 0], xy[:, 1], c=values, s=8, cmap=cmap or "viridis", zorder=3)

@@ -40,6 +40,7 @@ import networkx as nx
 import numpy as np
 import pandas as pd
 
+from faultnet.exceptions import InvalidParameterError
 from faultnet.model import CarlsonLanger
 
 __all__ = ["BFit", "fit_b_lsq", "fit_b_mle", "irregularity", "magnitude_distribution"]
@@ -57,7 +58,9 @@ def _magnitudes(M, name="M"):
             with np.errstate(divide="ignore", invalid="ignore"):
                 M = np.log(np.asarray(M["S"], dtype=np.float64))
         else:
-            raise ValueError(f"{name}: DataFrame needs an 'M' or 'S' column; got {list(M.columns)}")
+            raise InvalidParameterError(
+                f"{name}: DataFrame needs an 'M' or 'S' column; got {list(M.columns)}"
+            )
     arr = np.asarray(M, dtype=np.float64).ravel()
     return arr[np.isfinite(arr)]
 
@@ -134,7 +137,7 @@ def magnitude_distribution(M, bins=_DEFAULT_BINS, range=None):
     """
     m = _magnitudes(M)
     if m.size == 0:
-        raise ValueError("magnitude_distribution needs at least one finite magnitude")
+        raise InvalidParameterError("magnitude_distribution needs at least one finite magnitude")
     count, edges = np.histogram(m, bins=bins, range=range)
     width = np.diff(edges)
     table = pd.DataFrame(
@@ -151,9 +154,13 @@ def magnitude_distribution(M, bins=_DEFAULT_BINS, range=None):
 
 def _check_window(m_min, m_max):
     if not (math.isfinite(m_min) and math.isfinite(m_max)):
-        raise ValueError(f"fit window must be finite; got m_min={m_min!r}, m_max={m_max!r}")
+        raise InvalidParameterError(
+            f"fit window must be finite; got m_min={m_min!r}, m_max={m_max!r}"
+        )
     if m_min >= m_max:
-        raise ValueError(f"fit window is empty: need m_min < m_max; got {m_min!r} >= {m_max!r}")
+        raise InvalidParameterError(
+            f"fit window is empty: need m_min < m_max; got {m_min!r} >= {m_max!r}"
+        )
 
 
 def fit_b_lsq(M, m_min, m_max, bins=20, weighted=False):
@@ -206,20 +213,20 @@ def fit_b_lsq(M, m_min, m_max, bins=20, weighted=False):
     m = _magnitudes(M)
     if np.ndim(bins) == 0:
         if int(bins) < 3:
-            raise ValueError(
+            raise InvalidParameterError(
                 f"fit_b_lsq needs bins >= 3 to estimate a slope and its error; got {bins}"
             )
         edges = np.linspace(m_min, m_max, int(bins) + 1)
     else:
         edges = np.asarray(bins, dtype=np.float64)
         if edges.min() < m_min or edges.max() > m_max or np.any(np.diff(edges) <= 0):
-            raise ValueError(
+            raise InvalidParameterError(
                 f"fit_b_lsq: bin edges must increase and lie inside [{m_min:g}, {m_max:g}]"
             )
     count, edges = np.histogram(m, bins=edges)
     keep = count > 0
     if keep.sum() < 3:
-        raise ValueError(
+        raise InvalidParameterError(
             f"fit_b_lsq: only {int(keep.sum())} non-empty bins in [{m_min:g}, {m_max:g}] "
             f"({int(count.sum())} events); need at least 3 -- widen the window or use more events"
         )
@@ -291,22 +298,24 @@ def fit_b_mle(M, m_min=None, unbiased=False, bins=_DEFAULT_BINS):
     """
     m = _magnitudes(M)
     if m.size < 2:
-        raise ValueError(f"fit_b_mle needs at least 2 finite magnitudes; got {m.size}")
+        raise InvalidParameterError(f"fit_b_mle needs at least 2 finite magnitudes; got {m.size}")
     if m_min is None:
         table = magnitude_distribution(m, bins=bins)
         m_min = float(table["M"].iloc[int(np.argmax(table["count"].to_numpy()))])
     m_min = float(m_min)
     if not math.isfinite(m_min):
-        raise ValueError(f"m_min must be finite; got {m_min!r}")
+        raise InvalidParameterError(f"m_min must be finite; got {m_min!r}")
     above = m[m >= m_min]
     n = above.size
     if n < 2:
-        raise ValueError(
+        raise InvalidParameterError(
             f"fit_b_mle: {n} magnitudes at or above m_min={m_min:g} (of {m.size}); need >= 2"
         )
     excess = float(np.mean(above)) - m_min
     if excess <= 0.0:
-        raise ValueError(f"fit_b_mle: all {n} magnitudes equal m_min={m_min:g}; b is undefined")
+        raise InvalidParameterError(
+            f"fit_b_mle: all {n} magnitudes equal m_min={m_min:g}; b is undefined"
+        )
     b = 1.0 / excess
     if unbiased:
         b *= (n - 1) / n
@@ -334,10 +343,10 @@ def _edges(graph_or_model, n):
             f"got {type(graph_or_model).__name__}"
         )
     if adj.shape[0] != n:
-        raise ValueError(f"x has {n} blocks but the graph has {adj.shape[0]} nodes")
+        raise InvalidParameterError(f"x has {n} blocks but the graph has {adj.shape[0]} nodes")
     upper = sp.triu(sp.csr_matrix(adj), k=1).tocoo()
     if upper.nnz == 0:
-        raise ValueError("the graph has no edges: irregularity is undefined")
+        raise InvalidParameterError("the graph has no edges: irregularity is undefined")
     return upper.row.astype(np.int64), upper.col.astype(np.int64)
 
 
@@ -373,12 +382,16 @@ def irregularity(x, graph_or_model=None):
     """
     if hasattr(x, "profiles") and hasattr(x, "model"):
         if x.profiles is None:
-            raise ValueError("the result has no profiles: simulate with record_profiles=True")
+            raise InvalidParameterError(
+                "the result has no profiles: simulate with record_profiles=True"
+            )
         graph_or_model = x.model if graph_or_model is None else graph_or_model
         x = x.profiles
     arr = np.asarray(x, dtype=np.float64)
     if arr.ndim not in (1, 2) or arr.shape[-1] == 0:
-        raise ValueError(f"x must have shape (N,) or (n_events, N) with N >= 1; got {arr.shape}")
+        raise InvalidParameterError(
+            f"x must have shape (N,) or (n_events, N) with N >= 1; got {arr.shape}"
+        )
     rows = np.atleast_2d(arr)
     n = rows.shape[1]
     if graph_or_model is None:

@@ -88,7 +88,7 @@ def test_plot_time_series(tmp_path):
     plots.plot_time_series(t, [0.5, 0.4, 0.3, 0.9, 0.8], ax=ax2, kind="delta")
     assert ax2.get_ylabel() == "Δ" and len(ax2.get_lines()) == 1
     _save(ax2, tmp_path, "delta")
-    with pytest.raises(ValueError, match="kind"):
+    with pytest.raises(faultnet.exceptions.InvalidParameterError, match="kind"):
         plots.plot_time_series(t, t, kind="M")
 
 

@@ -86,7 +86,12 @@ def test_fit_b_mle_unbiased_correction_small_samples():
 
 
 def test_fit_b_bad_input():
+    """Each bad input is an InvalidParameterError (so also a ValueError) naming the problem."""
     M = _exponential_magnitudes(0.67, 1000, seed=8)
+    with pytest.raises(faultnet.exceptions.InvalidParameterError, match="m_min < m_max"):
+        fit_b_lsq(M, 2.0, 1.0)
+    with pytest.raises(faultnet.exceptions.InvalidParameterError, match="at least 2"):
+        fit_b_mle([])
     with pytest.raises(ValueError, match="m_min < m_max"):
         fit_b_lsq(M, 2.0, 1.0)
     with pytest.raises(ValueError, match="m_min < m_max"):
