@@ -158,10 +158,11 @@ def recurrence(events, m_min, where=None, slips=None):
     events : pandas.DataFrame or SimulationResult
     m_min : float
         Magnitude of the "large" events.
-    where : collection of node labels, optional
+    where : node label or collection of node labels, optional
         Count only events at these blocks: whose hypocentre is one of them, or,
         with ``slips``, in which one of them slipped (the rupture reached the
-        place).  Default: every large event (system-wide recurrence).
+        place).  One label may be given alone (also a lattice's ``(i, j)``).
+        Default: every large event (system-wide recurrence).
     slips : pandas.DataFrame, optional
         ``result.slips`` (``simulate(..., record_slips=True)``).
 
@@ -180,7 +181,8 @@ def recurrence(events, m_min, where=None, slips=None):
     ev = _events(events)
     big = ev[ev["M"].to_numpy() >= float(m_min)]
     if where is not None:
-        where = set(where)
+        labels = slips["node"] if slips is not None else ev["hypocenter"]
+        where = _blocks(where, labels)
         if slips is not None:
             hit = slips.loc[slips["node"].isin(where), "event"].unique()
             big = big[big["event"].isin(hit)]
@@ -195,6 +197,31 @@ def recurrence(events, m_min, where=None, slips=None):
     x = np.diff(t)
     cv, cv_err = _cv_and_error(x)
     return Recurrence(x, float(x.mean()), float(x.std(ddof=1)), float(cv), float(cv_err), x.size)
+
+
+def _blocks(where, labels):
+    """The set of block labels ``where`` names (one label, or a collection of them).
+
+    A tuple that has the shape of the catalog's tuple labels is one label, not a collection;
+    labels that no event has are an error, not an empty selection.
+    """
+    sample = labels.iloc[0] if len(labels) else None
+    one_tuple = (
+        isinstance(where, tuple)
+        and isinstance(sample, tuple)
+        and len(where) == len(sample)
+        and not any(isinstance(w, tuple) for w in where)
+    )
+    if one_tuple or isinstance(where, (str, bytes)) or not hasattr(where, "__iter__"):
+        blocks = {where}
+    else:
+        blocks = set(where)
+    if not blocks & set(labels):
+        raise InvalidParameterError(
+            f"where: no event has any of the blocks {sorted(blocks, key=repr)[:5]!r} "
+            f"(the catalog's block labels look like {sample!r})"
+        )
+    return blocks
 
 
 # --------------------------------------------------------------------------- b-values

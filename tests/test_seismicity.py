@@ -79,6 +79,15 @@ def test_thresholds_and_places_select_the_right_events():
     np.testing.assert_allclose(fs.recurrence(ev, 4.0, where=[7, 9], slips=slips).intervals, [4, 4])
     with pytest.raises(InvalidParameterError, match="at least 3"):
         fs.recurrence(ev, 4.0, where=[3])
+    np.testing.assert_allclose(fs.recurrence(ev, 4.0, where=1).intervals, [2.0, 6.0])
+    with pytest.raises(InvalidParameterError, match=r"no event has any of the blocks \[42\]"):
+        fs.recurrence(ev, 4.0, where=42)
+    # a lattice label given alone is one block, not the collection {2, 3}
+    lat = ev.assign(hypocenter=[(0, 1), (2, 3), (0, 1), (2, 3), (0, 1), (0, 1)])
+    np.testing.assert_allclose(fs.recurrence(lat, 4.0, where=(0, 1)).intervals, [2.0, 6.0])
+    np.testing.assert_allclose(fs.recurrence(lat, 4.0, where=[(0, 1)]).intervals, [2.0, 6.0])
+    with pytest.raises(InvalidParameterError, match="labels look like \\(0, 1\\)"):
+        fs.recurrence(lat, 4.0, where=[2, 3])
     with pytest.raises(InvalidParameterError, match="at least 2"):
         fs.interevent_times(ev, m_min=9.0)
 
