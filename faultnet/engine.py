@@ -85,7 +85,7 @@ class Simulator:
     record_slips : bool
         Keep per-block slips of every event (``result.slips``), at most
         ``max_slip_rows`` rows per :meth:`advance`.
-    trace_nodes : sequence of graph nodes, optional
+    trace_nodes : graph node, or sequence of graph nodes, optional
         Record ``x(t)``, ``v(t)`` of these blocks at every integration step
         inside events, at most ``max_trace_rows`` steps per :meth:`advance`.
 
@@ -354,7 +354,7 @@ def simulate(
     record_profiles : bool
         Keep the displacement profile after every event (small graphs only:
         ``n_events * n_blocks`` is limited to 2e7).
-    trace_nodes : sequence of graph nodes, optional
+    trace_nodes : graph node, or sequence of graph nodes, optional
         Record ``x(t)``, ``v(t)`` of these blocks at every integration step
         inside events (``result.traces``), at most ``max_trace_rows`` steps.
 

@@ -158,10 +158,20 @@ def initial_state(model, x0, rng):
 
 
 def trace_indices(model, trace_nodes):
-    """Block indices of ``trace_nodes`` (graph node labels), checked."""
+    """Block indices of ``trace_nodes`` (graph node labels, or one label alone), checked."""
     if trace_nodes is None:
         return np.zeros(0, dtype=np.int64)
     index = {node: i for i, node in enumerate(model.nodes)}
+    try:
+        one = trace_nodes in index  # a single label, also a lattice's (i, j)
+    except TypeError:  # unhashable: a list or an array of labels
+        one = False
+    if one:
+        trace_nodes = [trace_nodes]
+    elif isinstance(trace_nodes, (str, bytes)) or not hasattr(trace_nodes, "__iter__"):
+        raise InvalidParameterError(
+            f"trace_nodes must be node labels of the graph (one, or a list); got {trace_nodes!r}"
+        )
     missing = [n for n in trace_nodes if n not in index]
     if missing:
         raise InvalidParameterError(f"trace_nodes not in the graph: {missing[:5]}")

@@ -259,3 +259,21 @@ def test_progress_bar_says_when_the_first_run_compiles(monkeypatch, capsys):
     monkeypatch.setattr(engine, "_cache_is_cold", lambda kernel: True)  # a cold cache
     faultnet.simulate(model, 5, rng=1, progress=True)
     assert engine.COMPILING_LABEL in capsys.readouterr().err
+
+
+def test_trace_nodes_takes_one_label_alone():
+    """One node label, also a lattice's (i, j), traces that block; a scalar that is no label is
+    an error naming trace_nodes."""
+    import networkx as nx
+
+    grid = faultnet.CarlsonLanger(nx.grid_2d_graph(4, 4))
+    one = faultnet.simulate(grid, 5, rng=1, progress=False, trace_nodes=(0, 1))
+    listed = faultnet.simulate(grid, 5, rng=1, progress=False, trace_nodes=[(0, 1)])
+    assert list(one.traces["node"].unique()) == [(0, 1)]
+    pd.testing.assert_frame_equal(one.traces, listed.traces)
+    ring = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
+    assert list(
+        faultnet.simulate(ring, 3, rng=1, progress=False, trace_nodes=4).traces.node.unique()
+    ) == [4]
+    with pytest.raises(faultnet.InvalidParameterError, match="trace_nodes must be node labels"):
+        faultnet.simulate(ring, 3, rng=1, progress=False, trace_nodes=99)
