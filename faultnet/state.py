@@ -42,6 +42,13 @@ class State:
     def from_x(cls, x, u=0.0, n_events=0) -> State:
         """Build a state from absolute displacements ``x`` and plate position ``u``."""
         x = np.array(x, dtype=np.float64, copy=True)
+        if x.ndim != 1 or x.size == 0:
+            raise InvalidParameterError(
+                f"x must be 1-D, one displacement per block; got shape {x.shape}"
+            )
+        bad = np.flatnonzero(~np.isfinite(x))
+        if bad.size:
+            raise InvalidParameterError(f"x has non-finite entries at positions {bad[:5].tolist()}")
         u = float(u)
         if not math.isfinite(u):
             raise InvalidParameterError(f"plate position u must be finite; got {u!r}")

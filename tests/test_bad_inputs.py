@@ -110,3 +110,16 @@ def test_large_plate_offsets_of_long_runs_still_work(ring10):
     x0 = 1e3 + np.random.default_rng(1).uniform(0, 0.01, 10)
     d = faultnet.simulate(ring10, 3, x0=x0, progress=False)
     assert len(d.events) == 3 and d.events["t"].iloc[0] > 999.0
+
+
+def test_state_from_x_checks_its_displacements():
+    """A state is built only from one finite displacement per block."""
+    with pytest.raises(InvalidParameterError, match=r"x must be 1-D.*\(2, 2\)"):
+        State.from_x(np.zeros((2, 2)))
+    with pytest.raises(InvalidParameterError, match=r"x must be 1-D.*\(0,\)"):
+        State.from_x([])
+    with pytest.raises(InvalidParameterError, match=r"non-finite entries at positions \[1\]"):
+        State.from_x([0.0, np.inf, 0.1])
+    st = State.from_x([0.1, 0.2], u=1.5)
+    np.testing.assert_allclose(st.x, [0.1, 0.2])
+    assert st.u == 1.5
