@@ -24,6 +24,7 @@ import numpy as np
 from faultnet.exceptions import InvalidParameterError
 
 __all__ = [
+    "check_columns",
     "check_finite",
     "check_int",
     "check_positive",
@@ -32,6 +33,21 @@ __all__ = [
 ]
 
 _RNG_RULE = "None, an int >= 0, a numpy SeedSequence or a numpy Generator"
+
+
+def check_columns(name, table, columns, source):
+    """``table`` if it is a DataFrame with ``columns``; else an error naming ``source``, the
+    function whose table it must be."""
+    import pandas as pd
+
+    have = list(table.columns) if isinstance(table, pd.DataFrame) else None
+    missing = [c for c in columns if have is None or c not in have]
+    if missing:
+        got = f"columns {have}" if have is not None else type(table).__name__
+        raise InvalidParameterError(
+            f"{name} must be the DataFrame of {source} (columns {list(columns)}); got {got}"
+        )
+    return table
 
 
 def check_int(name, value, minimum=1) -> int:

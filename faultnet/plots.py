@@ -22,6 +22,7 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
+from faultnet._validate import check_columns
 from faultnet.exceptions import InvalidParameterError
 
 __all__ = [
@@ -46,8 +47,8 @@ def plot_magnitude_distribution(M_or_table, fit=None, ax=None, label=None, bins=
 
     Parameters
     ----------
-    M_or_table : array_like or pandas.DataFrame
-        Magnitudes, an events DataFrame, or a table from
+    M_or_table : array_like, pandas.DataFrame or SimulationResult
+        Magnitudes, an events DataFrame (or a result), or a table from
         :func:`faultnet.stats.magnitude_distribution` (columns ``M``, ``density``).
     fit : faultnet.stats.BFit, optional
         Draws ``A exp(-b M)`` (dashed) over ``[fit.m_min, fit.m_max]``, with
@@ -112,8 +113,9 @@ def plot_profiles(profiles, t=None, ax=None, subtract_mean=False, cmap="viridis"
 
     Parameters
     ----------
-    profiles : array_like
-        Shape ``(n_events, N)``, e.g. ``result.profiles``.
+    profiles : array_like or SimulationResult
+        Shape ``(n_events, N)``, e.g. ``result.profiles`` (or the result itself, simulated
+        with ``record_profiles=True``).
     t : array_like, optional
         Event start times (``result.events["t"]``): row ``i`` is then drawn
         from ``t[i]`` to ``t[i + 1]``, the interval it holds.  Default: event
@@ -128,6 +130,12 @@ def plot_profiles(profiles, t=None, ax=None, subtract_mean=False, cmap="viridis"
     matplotlib.axes.Axes
         With a colour bar; block index on x, event or time on y.
     """
+    if hasattr(profiles, "profiles") and hasattr(profiles, "events"):  # a SimulationResult
+        if profiles.profiles is None:
+            raise InvalidParameterError(
+                "profiles: the result has no profiles; simulate with record_profiles=True"
+            )
+        profiles = profiles.profiles
     x = np.asarray(profiles, dtype=np.float64)
     if x.ndim != 2 or 0 in x.shape:
         raise InvalidParameterError(f"profiles must have shape (n_events, N); got {x.shape}")
@@ -213,6 +221,7 @@ def plot_return_map(table, ax=None, **kw):
     -------
     matplotlib.axes.Axes
     """
+    check_columns("table", table, ("d", "d_next"), "faultnet.dynamics.return_map")
     ax = _axes(ax)
     d = np.asarray(table["d"], dtype=np.float64)
     d_next = np.asarray(table["d_next"], dtype=np.float64)
@@ -268,10 +277,17 @@ def plot_graph(graph, ax=None, color_by=None, linewidth=0.5, max_edge_length=Non
     from matplotlib import colormaps
     from matplotlib.collections import LineCollection
 
+    from faultnet.model import CarlsonLanger, SparseGraph
+
+    if isinstance(graph, CarlsonLanger):
+        graph = graph.graph
     if not isinstance(graph, nx.Graph):
-        graph = getattr(graph, "graph", graph)  # a CarlsonLanger
-    if not isinstance(graph, nx.Graph):
-        raise TypeError(f"graph must be a networkx.Graph or CarlsonLanger; got {type(graph)}")
+        what = (
+            "a SparseGraph, which has no node positions"
+            if isinstance(graph, SparseGraph)
+            else type(graph).__name__
+        )
+        raise TypeError(f"graph must be a networkx.Graph or a CarlsonLanger of one; got {what}")
     ax = _axes(ax)
     nodes = list(graph.nodes)
     index = {v: i for i, v in enumerate(nodes)}

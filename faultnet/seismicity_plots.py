@@ -19,7 +19,8 @@ Examples
 from __future__ import annotations
 
 import numpy as np
-import pandas as pd
+
+from faultnet._validate import check_columns
 
 __all__ = ["plot_distance_profile", "plot_interevent_times", "plot_stack"]
 
@@ -96,6 +97,7 @@ def plot_stack(table, ax=None, normalise=True, label=None, symlog=1e-4, **kw):
     -------
     matplotlib.axes.Axes
     """
+    check_columns("table", table, ("t_lo", "t_hi", "rate", "rate_err"), "stack_mainshocks")
     ax = _axes(ax)
     scale = table.attrs.get("background", 1.0) if normalise else 1.0
     centre = 0.5 * (table["t_lo"] + table["t_hi"])
@@ -130,9 +132,8 @@ def plot_distance_profile(table, ax=None, label=None, **kw):
     -------
     matplotlib.axes.Axes
     """
+    check_columns("table", table, ("r_lo", "r_hi", "ratio", "ratio_err"), "distance_profile")
     ax = _axes(ax)
-    if not isinstance(table, pd.DataFrame):
-        raise TypeError("table must be the DataFrame of distance_profile")
     r = np.sqrt(np.maximum(table["r_lo"], 0.5) * table["r_hi"])
     kw.setdefault("marker", "o")
     kw.setdefault("markersize", 3)

@@ -50,7 +50,9 @@ _CHUNK_VALUES = 4_000_000  # |x_i - x_j| values held at once by irregularity()
 
 
 def _magnitudes(M, name="M"):
-    """Finite magnitudes as a float array from an array, Series or events DataFrame."""
+    """Finite magnitudes as a float array from an array, Series, events DataFrame or result."""
+    if hasattr(M, "events") and hasattr(M, "model"):  # a SimulationResult
+        M = M.events
     if isinstance(M, pd.DataFrame):
         if "M" in M.columns:
             M = M["M"]

@@ -141,3 +141,23 @@ def test_magnitude_distribution_leaves_gaps_at_empty_bins():
     y = ax.get_lines()[0].get_ydata()
     assert np.isnan(y).sum() >= 5  # the empty bins are gaps, not bridged
     assert np.nanmin(y) > 0
+
+
+def test_plots_take_results_and_name_wrong_tables():
+    """A SimulationResult is accepted where its events or profiles are meant; a table of the
+    wrong function, or a SparseGraph to draw, is an error that says what is needed."""
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(30))
+    res = faultnet.simulate(model, 300, rng=2, progress=False)
+    assert fit_b_mle(res, -6.0).b == fit_b_mle(res.events, -6.0).b
+    a = plots.plot_magnitude_distribution(res)
+    b = plots.plot_magnitude_distribution(res.events)
+    np.testing.assert_array_equal(a.get_lines()[0].get_ydata(), b.get_lines()[0].get_ydata())
+    with pytest.raises(faultnet.InvalidParameterError, match="record_profiles=True"):
+        plots.plot_profiles(res)
+    with_profiles = faultnet.simulate(model, 20, rng=2, progress=False, record_profiles=True)
+    assert isinstance(plots.plot_profiles(with_profiles), Axes)
+    with pytest.raises(faultnet.InvalidParameterError, match="DataFrame of .*return_map"):
+        plots.plot_return_map(res.events)
+    sparse = faultnet.graphs.square_lattice(5, 5, sparse=True)
+    with pytest.raises(TypeError, match="SparseGraph, which has no node positions"):
+        plots.plot_graph(faultnet.CarlsonLanger(sparse))

@@ -305,6 +305,16 @@ def test_bad_arguments_name_themselves():
         fs.distance_profile(ev, faultnet.graphs.ring(5), 5.0, 1.0, metric="manhattan")
     with pytest.raises(InvalidParameterError, match="events must be"):
         fs.interevent_times([1, 2, 3])
+    # the plots take the tables their functions make, and say so when given another
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from faultnet import seismicity_plots as sp
+
+    with pytest.raises(InvalidParameterError, match="DataFrame of stack_mainshocks"):
+        sp.plot_stack(ev)
+    with pytest.raises(InvalidParameterError, match="DataFrame of distance_profile.*got list"):
+        sp.plot_distance_profile([1, 2])
 
 
 def test_doctests_of_the_seismicity_modules():
