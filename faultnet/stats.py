@@ -112,9 +112,9 @@ def magnitude_distribution(M, bins=_DEFAULT_BINS, range=None):
 
     Parameters
     ----------
-    M : array_like or pandas.DataFrame
+    M : array_like, pandas.DataFrame or SimulationResult
         Magnitudes ``M = ln S``, or an events DataFrame (its ``M`` column, else
-        ``ln S``).  Non-finite values are dropped.
+        ``ln S``) or a result (its events).  Non-finite values are dropped.
     bins : int, sequence or str, optional
         As in :func:`numpy.histogram` (default 50 equal bins).
     range : (float, float), optional
@@ -180,8 +180,8 @@ def fit_b_lsq(M, m_min, m_max, bins=20, weighted=False):
 
     Parameters
     ----------
-    M : array_like or pandas.DataFrame
-        Magnitudes ``M = ln S`` or an events DataFrame.
+    M : array_like, pandas.DataFrame or SimulationResult
+        Magnitudes ``M = ln S``, an events DataFrame or a result (its events).
     m_min, m_max : float
         Fit window (the paper: -6..3 on the ring, -7..4 on the square lattice).
     bins : int or sequence, optional
@@ -269,8 +269,8 @@ def fit_b_mle(M, m_min=None, unbiased=False, bins=_DEFAULT_BINS):
 
     Parameters
     ----------
-    M : array_like or pandas.DataFrame
-        Magnitudes ``M = ln S`` or an events DataFrame.
+    M : array_like, pandas.DataFrame or SimulationResult
+        Magnitudes ``M = ln S``, an events DataFrame or a result (its events).
     m_min : float, optional
         Completeness threshold.  Default: the maximum-curvature estimate, the
         centre of the most populated bin of the ``bins``-bin histogram
