@@ -234,6 +234,13 @@ def graph_hash(model) -> str:
     >>> graph_hash(m) == graph_hash(m.with_params(alpha=2.0))
     False
     """
+    from faultnet.model import CarlsonLanger
+
+    if not isinstance(model, CarlsonLanger):
+        raise TypeError(
+            "graph_hash needs a CarlsonLanger (build one from the graph); "
+            f"got {type(model).__name__}"
+        )
     h = hashlib.sha256()
     h.update(b"faultnet-graph-v1\0")
     h.update(json.dumps([_label_key(n) for n in model.nodes]).encode())

@@ -16,6 +16,8 @@ def test_percolation_specs_are_reproducible():
     e = build_model("percolation:square:20x20:p=pc:all:seed=9", rng=7)
     assert graph_hash(a) == graph_hash(b) != graph_hash(c)
     assert graph_hash(d) == graph_hash(e)
+    with pytest.raises(TypeError, match="graph_hash needs a CarlsonLanger.*got Graph"):
+        graph_hash(nx.cycle_graph(5))
     assert parse_graph_spec("square:12").canonical == "square:12x12"
     assert parse_graph_spec("percolation:triangular:8x8:periodic:p=pc:prune").canonical == (
         "percolation:triangular:8x8:periodic:p=0.5:largest:prune"
