@@ -130,13 +130,9 @@ def plot_profiles(profiles, t=None, ax=None, subtract_mean=False, cmap="viridis"
     matplotlib.axes.Axes
         With a colour bar; block index on x, event or time on y.
     """
-    if hasattr(profiles, "profiles") and hasattr(profiles, "events"):  # a SimulationResult
-        if profiles.profiles is None:
-            raise InvalidParameterError(
-                "profiles: the result has no profiles; simulate with record_profiles=True"
-            )
-        profiles = profiles.profiles
-    x = np.asarray(profiles, dtype=np.float64)
+    from faultnet.stats import profiles_of
+
+    x = np.asarray(profiles_of(profiles, "profiles")[0], dtype=np.float64)
     if x.ndim != 2 or 0 in x.shape:
         raise InvalidParameterError(f"profiles must have shape (n_events, N); got {x.shape}")
     if subtract_mean:

@@ -49,6 +49,20 @@ _DEFAULT_BINS = 50
 _CHUNK_VALUES = 4_000_000  # |x_i - x_j| values held at once by irregularity()
 
 
+def profiles_of(x, name):
+    """(profiles, model) of a SimulationResult, or ``(x, None)`` for anything else.
+
+    A result simulated without ``record_profiles=True`` is an error naming ``name``.
+    """
+    if not (hasattr(x, "profiles") and hasattr(x, "model")):
+        return x, None
+    if x.profiles is None:
+        raise InvalidParameterError(
+            f"{name}: the result has no profiles; simulate with record_profiles=True"
+        )
+    return x.profiles, x.model
+
+
 def _magnitudes(M, name="M"):
     """Finite magnitudes as a float array from an array, Series, events DataFrame or result."""
     if hasattr(M, "events") and hasattr(M, "model"):  # a SimulationResult
@@ -382,13 +396,8 @@ def irregularity(x, graph_or_model=None):
     >>> irregularity([[0.0, 1.0, 3.0, 2.0], [1.0, 1.0, 1.0, 1.0]]).tolist()
     [1.5, 0.0]
     """
-    if hasattr(x, "profiles") and hasattr(x, "model"):
-        if x.profiles is None:
-            raise InvalidParameterError(
-                "the result has no profiles: simulate with record_profiles=True"
-            )
-        graph_or_model = x.model if graph_or_model is None else graph_or_model
-        x = x.profiles
+    x, model = profiles_of(x, "x")
+    graph_or_model = model if graph_or_model is None else graph_or_model
     arr = np.asarray(x, dtype=np.float64)
     if arr.ndim not in (1, 2) or arr.shape[-1] == 0:
         raise InvalidParameterError(

@@ -171,7 +171,6 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     K = stage_rows(work)
     bnd = loc[LOC_BND_END] > loc[LOC_BND_START]
     th0 = loc[LOC_REGION_T]
-    cp, cp2 = P, P2
     hr = h / loc[LOC_OUTER_H] if bnd else 0.0
     for q in range(q0, nact):
         i = IW[ACT, q]
@@ -182,7 +181,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         W[i, P] = W[i, D] + h * _A21 * v
         K[q, KV + 1] = v + h * _A21 * a
     if bnd:
-        boundary_positions(cp, th0 + 0.2 * hr, W, K, IW, loc)
+        boundary_positions(P, th0 + 0.2 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v2 = K[q, KV + 1]
@@ -191,7 +190,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         W[i, P2] = W[i, D] + h * (_A31 * K[q, KV] + _A32 * v2)
         K[q, KV + 2] = W[i, V] + h * (_A31 * K[q, KA] + _A32 * a2)
     if bnd:
-        boundary_positions(cp2, th0 + 0.3 * hr, W, K, IW, loc)
+        boundary_positions(P2, th0 + 0.3 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v3 = K[q, KV + 2]
@@ -200,7 +199,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         W[i, P] = W[i, D] + h * (_A41 * K[q, KV] + _A42 * K[q, KV + 1] + _A43 * v3)
         K[q, KV + 3] = W[i, V] + h * (_A41 * K[q, KA] + _A42 * K[q, KA + 1] + _A43 * a3)
     if bnd:
-        boundary_positions(cp, th0 + 0.8 * hr, W, K, IW, loc)
+        boundary_positions(P, th0 + 0.8 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v4 = K[q, KV + 3]
@@ -211,7 +210,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         W[i, P2] = W[i, D] + h * dp
         K[q, KV + 4] = W[i, V] + h * dv
     if bnd:
-        boundary_positions(cp2, th0 + 8.0 / 9.0 * hr, W, K, IW, loc)
+        boundary_positions(P2, th0 + 8.0 / 9.0 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v5 = K[q, KV + 4]
@@ -234,7 +233,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         W[i, P] = W[i, D] + h * dp
         K[q, KV + 5] = W[i, V] + h * dv
     if bnd:
-        boundary_positions(cp, th0 + 1.0 * hr, W, K, IW, loc)
+        boundary_positions(P, th0 + 1.0 * hr, W, K, IW, loc)
     for q in range(q0, nact):
         i = IW[ACT, q]
         v6 = K[q, KV + 5]
@@ -254,7 +253,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
     kind = np.int64(0)
     if bnd:
-        boundary_positions(cp2, th0 + 1.0 * hr, W, K, IW, loc)
+        boundary_positions(P2, th0 + 1.0 * hr, W, K, IW, loc)
     listing = scan >= 2
     keep = scan == 3
     stamp = who - who  # int64
