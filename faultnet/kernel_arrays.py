@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultnet._kernels.bundles import Graph, Records, Work
+from faultnet._kernels.bundles import Records, Work, graph_bundle, work_array
 from faultnet._kernels.bundles import State as KernelState
 from faultnet._kernels.layout import (
     CNT_EVENTS,
@@ -195,8 +195,9 @@ class KernelArrays:
         self.tree = K.empty_tree(n)
         self.options = options
         # block-major work space: one block's rows share cache lines
-        # rows N.. hold the DP5 stage derivatives by active position (tableau.stage_rows)
-        self.W = np.zeros((2 * n, K.N_WORK), dtype=np.float64)
+        # rows N to 2 N - 1 hold the DP5 stage derivatives by active position (tableau.stage_rows)
+        # and row 2 N is the ghost the padded neighbour table points to (bundles.work_array)
+        self.W = work_array(n, K.N_WORK)
         self.IW = np.zeros((K.N_IWORK, n), dtype=np.int64)
         self.ctrl = np.zeros(CTRL_SIZE, dtype=np.float64)
         self.ctrl[CTRL_MAX_DURATION] = options.max_event_duration
@@ -229,16 +230,13 @@ class KernelArrays:
         kernel (:meth:`RunOptions.entry`) may follow the model.
         """
         oms = 1.0 - model.sigma_values
-        kval = model.adjacency.data.astype(np.float64)
-        uniform = kval.size > 0 and kval[0] > 0.0 and bool(np.all(kval == kval[0]))
-        self.graph = Graph(
-            indptr=self.indptr,
-            indices=self.indices,
-            kval=kval,
-            diag=model.stiffness.astype(np.float64),
-            oms=oms,
-            cfr=2.0 * model.alpha_values / oms,
-            k_uniform=float(kval[0]) if uniform else 0.0,
+        self.graph = graph_bundle(
+            self.indptr,
+            self.indices,
+            model.adjacency.data.astype(np.float64),
+            model.stiffness.astype(np.float64),
+            oms,
+            2.0 * model.alpha_values / oms,
         )
         self.ctrl[CTRL_DT] = dt
         self.ctrl[CTRL_LOCAL_FROM] = self.options.regions_from(model)

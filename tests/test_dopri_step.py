@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import scipy.sparse
 
-from faultnet._kernels.bundles import Graph, Work
+from faultnet._kernels.bundles import Work, graph_bundle, work_array
 from faultnet._kernels.context import (
     LOC_BND_END,
     LOC_BND_START,
@@ -61,8 +61,7 @@ _B = [Fr(35, 384), 0, Fr(500, 1113), Fr(125, 192), Fr(-2187, 6784), Fr(11, 84)]
 
 
 @nb.njit(cache=False)
-def _step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc, k_uniform):
-    graph = Graph(indptr, indices, kval, diag, oms, cfr, k_uniform)
+def _step(h, q0, nact, IW, W, graph, loc):
     work = Work(W, IW, loc, np.zeros(CNT_SIZE, dtype=np.int64))
     return dopri_step(h, q0, nact, 0, 1e6, graph, work)
 
@@ -118,7 +117,7 @@ def test_step_matches_a_dense_reference(region, seed, uniform):
         ring = sorted({int(j) for i in blocks for j in g[i]} - set(blocks.tolist()))
         for b in ring[:4]:
             boundary[b] = rng.normal(0.0, 1e-3, 5)
-    W = np.zeros((2 * n, N_WORK))  # the stage rows below the blocks'
+    W = work_array(n, N_WORK)  # the stage rows below the blocks', then the ghost row
     IW = np.zeros((N_IWORK, n), dtype=np.int64)
     loc = np.zeros(LOC_SIZE)
     x = rng.normal(0.0, 1e-2, n)
@@ -147,7 +146,9 @@ def test_step_matches_a_dense_reference(region, seed, uniform):
     W[blocks, A] = a0
     h = 0.04
     before = W.copy()
-    _step(h, q0, nact, IW, W, indptr, indices, kval, diag, oms, cfr, loc, 13.7 if uniform else 0.0)
+    graph = graph_bundle(indptr, indices, kval, diag, oms, cfr)
+    assert graph.k_uniform == (13.7 if uniform else 0.0)
+    _step(h, q0, nact, IW, W, graph, loc)
     x1, v1, a1, kv, ka = _reference(
         h, blocks, x, v0, a0, F0s, K, diag, oms, cfr, boundary, th0, hout
     )

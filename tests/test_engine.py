@@ -173,7 +173,7 @@ def test_scheme_is_a_compile_time_literal():
 
     @nb.njit
     def scan_with(method, W, IW, ivec, fvec):
-        graph = Graph(ivec, ivec, fvec, fvec, fvec, fvec, 0.0)
+        graph = Graph(ivec, ivec, fvec, fvec, fvec, fvec, 0.0, IW[:0])
         return step_scan(method, 0.1, 0, 0, 1.0, 1, graph, Work(W, IW, fvec, ivec))
 
     W, IW = np.zeros((4, 12)), np.zeros((12, 2), dtype=np.int64)
@@ -241,10 +241,12 @@ def test_cache_is_cold():
     from faultnet.engine import _cache_is_cold
 
     assert _cache_is_cold(_never_compiled)  # nothing in its on-disk cache
-    faultnet.simulate(faultnet.CarlsonLanger(faultnet.graphs.ring(10)), 2, rng=1, progress=False)
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
+    faultnet.simulate(model, 2, rng=1, progress=False)
     from faultnet import _kernels
 
-    assert not _cache_is_cold(_kernels.run_events_dopri5)  # just compiled
+    entry = getattr(_kernels, faultnet.RunOptions().entry(model))
+    assert not _cache_is_cold(entry)  # just compiled
     assert not _cache_is_cold(_never_compiled.py_func)  # no JIT: never cold
 
 

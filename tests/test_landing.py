@@ -9,7 +9,7 @@ import pytest
 
 import faultnet
 from faultnet import default_dt
-from faultnet._kernels.bundles import Graph, Work
+from faultnet._kernels.bundles import Work, graph_bundle, work_array
 from faultnet._kernels.context import (
     LOC_BND_END,
     LOC_BND_START,
@@ -58,25 +58,24 @@ def test_septic_hermite_reproduces_a_degree_7_polynomial():
 
 
 @nb.njit(cache=False)
-def _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _bundles(W, IW, graph, loc):
     """The kernels' Graph and Work bundles of these arrays (fresh counters)."""
-    graph = Graph(indptr, indices, kval, diag, oms, cfr, 0.0)
     return graph, Work(W, IW, loc, np.zeros(CNT_SIZE, dtype=np.int64))
 
 
 @nb.njit(cache=False)
-def _start(hyp, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+def _start(hyp, w, keys, W, IW, graph):
     zero = np.int64(0)
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, np.zeros(LOC_SIZE))
+    graph, work = _bundles(W, IW, graph, np.zeros(LOC_SIZE))
     ntouch = touch(hyp, w, keys, W, IW, zero)
     nact, ntouch = activate(hyp, zero, ntouch, w, keys, graph, work)
     return nact
 
 
 @nb.njit(cache=False)
-def _to_join_step(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _to_join_step(h, nact, W, IW, graph, loc):
     """Full steps, committed, until one has a join inside: (theta, who, steps)."""
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    graph, work = _bundles(W, IW, graph, loc)
     for n in range(10000):
         th, who, kind, status = dopri_step(h, 0, nact, True, 1e6, graph, work)
         if who >= 0:
@@ -88,43 +87,38 @@ def _to_join_step(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
 
 
 @nb.njit(cache=False)
-def _land(th, who, h, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _land(th, who, h, q0, nact, W, IW, graph, loc):
     """A whole event's landing (q0 = 0) or a region's, on the region's step (qb = q0)."""
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    graph, work = _bundles(W, IW, graph, loc)
     return land(th, who, h, q0, q0, nact, graph, work)
 
 
 @nb.njit(cache=False)
-def _fine(h, m, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _fine(h, m, nact, W, IW, graph, loc):
     """m committed DP5 steps of length h / m (no crossing scan)."""
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    graph, work = _bundles(W, IW, graph, loc)
     for _ in range(m):
         dopri_step(h / m, 0, nact, False, 1e6, graph, work)
         commit(0, nact, W, IW)
 
 
 @nb.njit(cache=False)
-def _force(j, W, indptr, indices, kval, diag, oms, cfr):
-    return force(j, D, W, Graph(indptr, indices, kval, diag, oms, cfr, 0.0))
+def _force(j, W, graph):
+    return force(j, D, W, graph)
 
 
 def _arrays(model):
     adj = model.adjacency
     oms = 1.0 - model.sigma_values
-    return (
-        adj.indptr.astype(np.int64),
-        adj.indices.astype(np.int64),
-        adj.data.astype(np.float64),
-        model.stiffness.astype(np.float64),
-        oms,
-        2.0 * model.alpha_values / oms,
+    return graph_bundle(
+        adj.indptr, adj.indices, adj.data, model.stiffness, oms, 2.0 * model.alpha_values / oms
     )
 
 
 def _ring12(alpha):
     """A 12-block ring (k = 16, sigma = 0.01): its kernel arrays, dt and empty work arrays."""
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(12), k=16, sigma=0.01, alpha=alpha)
-    W = np.zeros((2 * model.n, N_WORK))
+    W = work_array(model.n, N_WORK)
     IW = np.zeros((N_IWORK, model.n), dtype=np.int64)
     return model.n, _arrays(model), default_dt(model), W, IW, np.zeros(LOC_SIZE)
 
@@ -145,24 +139,24 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
     keys = np.full(n, 1.0)  # keys: plate position at which a block fails; force = 1 + w - key
     keys[5] = w
     keys[6] = w + gap
-    nact = _start(5, w, keys, W, IW, *arrays)
-    th, who, steps = _to_join_step(h, nact, W, IW, *arrays, loc)
+    nact = _start(5, w, keys, W, IW, arrays)
+    th, who, steps = _to_join_step(h, nact, W, IW, arrays, loc)
     assert who == 6 and 0.0 < th < 1.0, (th, who, steps)
     act = IW[ACT, :nact].copy()
 
     # the full step's end against a fine integration over the whole step
     fine_end = W.copy()
-    _fine(h, 256, nact, fine_end, IW, *arrays, loc)
+    _fine(h, 256, nact, fine_end, IW, arrays, loc)
     end = np.concatenate([W[act, 4] - fine_end[act, D], W[act, 5] - fine_end[act, V]])
     step_err = np.abs(end).max()
 
     start = W.copy()
-    hl = _land(th, who, h, 0, nact, W, IW, *arrays, loc)
+    hl = _land(th, who, h, 0, nact, W, IW, arrays, loc)
     assert 0.0 < hl < h
     assert abs(hl / h - th) < 1e-4  # next to the dense output's estimate
-    assert abs(_force(who, W, *arrays) - 1.0) < 1e-13
+    assert abs(_force(who, W, arrays) - 1.0) < 1e-13
     ref = start
-    _fine(hl, 256, nact, ref, IW, *arrays, loc)
+    _fine(hl, 256, nact, ref, IW, arrays, loc)
     landed = np.concatenate([W[act, D] - ref[act, D], W[act, V] - ref[act, V]])
     land_err = np.abs(landed).max()
     print(f"step error {step_err:.2e}, landing error {land_err:.2e}, theta {th:.3f}")
@@ -171,11 +165,11 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
 
 
 @nb.njit(cache=False)
-def _slipping(blocks, vel, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr):
+def _slipping(blocks, vel, w, keys, W, IW, graph):
     """Blocks slipping at velocities ``vel`` from displacement 0 (active list in this order)."""
     nact = np.int64(0)
     ntouch = np.int64(0)
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, np.zeros(LOC_SIZE))
+    graph, work = _bundles(W, IW, graph, np.zeros(LOC_SIZE))
     for b in blocks:
         ntouch = touch(b, w, keys, W, IW, ntouch)
     for b in blocks:
@@ -188,15 +182,15 @@ def _slipping(blocks, vel, w, keys, W, IW, indptr, indices, kval, diag, oms, cfr
 
 
 @nb.njit(cache=False)
-def _region_step(h, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+def _region_step(h, q0, nact, W, IW, graph, loc):
+    graph, work = _bundles(W, IW, graph, loc)
     return dopri_step(h, q0, nact, True, 1e6, graph, work)
 
 
 @nb.njit(cache=False)
-def _region_fine(h, m, q0, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _region_fine(h, m, q0, nact, W, IW, graph, loc):
     """m committed region steps of length h / m, the boundary on the outer dense output."""
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    graph, work = _bundles(W, IW, graph, loc)
     th0 = loc[LOC_REGION_T]
     for s in range(m):
         loc[LOC_REGION_T] = th0 + s * h / m / loc[LOC_OUTER_H]
@@ -228,9 +222,9 @@ def test_landed_join_inside_a_local_region(alpha, v_boundary):
     keys[3] = keys[4] = keys[5] = w  # ... but the slipping ones
     vel = np.array([v_boundary, 0.5, 0.4])
     keys[6] = w + 16.0 * 0.4 * 0.45 * hh  # block 6 joins about half-way through the step
-    nact = _slipping(np.array([3, 4, 5]), vel, w, keys, W, IW, *arrays)
+    nact = _slipping(np.array([3, 4, 5]), vel, w, keys, W, IW, arrays)
     # the outer step (whole event, not committed): its stages give the boundary's dense output
-    _region_step(hh, 0, nact, W, IW, *arrays, loc)
+    _region_step(hh, 0, nact, W, IW, arrays, loc)
     # the region {4, 5} in slots 3, 4 above the outer list; block 3 its boundary
     q0 = nact
     for q, b in enumerate((4, 5)):
@@ -242,25 +236,25 @@ def test_landed_join_inside_a_local_region(alpha, v_boundary):
     _cache(0, 3, W, IW, loc)
     # a region step from a quarter of the outer step to its end
     th0 = 0.25
-    _region_fine(th0 * hh, 64, q0, end, W, IW, *arrays, loc)
+    _region_fine(th0 * hh, 64, q0, end, W, IW, arrays, loc)
     loc[LOC_REGION_T] = th0
     h = (1.0 - th0) * hh
     start = W.copy()
-    th, who, kind, status = _region_step(h, q0, end, W, IW, *arrays, loc)
+    th, who, kind, status = _region_step(h, q0, end, W, IW, arrays, loc)
     assert who == 6 and kind == JOIN and 0.0 < th < 1.0, (th, who, kind)
     act = np.array([4, 5])
     fine_end = start.copy()
-    _region_fine(h, 256, q0, end, fine_end, IW, *arrays, loc)
+    _region_fine(h, 256, q0, end, fine_end, IW, arrays, loc)
     step_err = np.abs(
         np.concatenate([W[act, 4] - fine_end[act, D], W[act, 5] - fine_end[act, V]])
     ).max()
 
-    hl = _land(th, who, h, q0, end, W, IW, *arrays, loc)
+    hl = _land(th, who, h, q0, end, W, IW, arrays, loc)
     assert 0.0 < hl < h
     assert abs(hl / h - th) < 1e-4
-    assert abs(_force(who, W, *arrays) - 1.0) < 1e-13
+    assert abs(_force(who, W, arrays) - 1.0) < 1e-13
     ref = start.copy()
-    _region_fine(hl, 256, q0, end, ref, IW, *arrays, loc)
+    _region_fine(hl, 256, q0, end, ref, IW, arrays, loc)
     land_err = np.abs(np.concatenate([W[act, D] - ref[act, D], W[act, V] - ref[act, V]])).max()
     # the boundary was placed at the join, and the accelerations use it there
     assert abs(W[3, P] - ref[3, P]) < 1e-12
@@ -279,10 +273,10 @@ def _first(cid, ncand, IW, loc):
 
 
 @nb.njit(cache=False)
-def _outer_scan(h, nact, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
+def _outer_scan(h, nact, W, IW, graph, loc):
     """A whole-event step whose scan also lists every crossing (scan mode 2)."""
     loc[LOC_NCAND] = 0.0
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+    graph, work = _bundles(W, IW, graph, loc)
     th, who, kind, status = dopri_step(h, 0, nact, 2, 1e6, graph, work)
     return th, who, kind
 
@@ -293,8 +287,8 @@ def _listed_(mark, IW, loc):
 
 
 @nb.njit(cache=False)
-def _collect_(h, nact, mark, W, IW, indptr, indices, kval, diag, oms, cfr, loc):
-    graph, work = _bundles(W, IW, indptr, indices, kval, diag, oms, cfr, loc)
+def _collect_(h, nact, mark, W, IW, graph, loc):
+    graph, work = _bundles(W, IW, graph, loc)
     return _collect(h, nact, mark, graph, work)
 
 
@@ -332,14 +326,14 @@ def test_listed_crossings_match_the_outer_scan(v_boundary):
     keys[6] = 16.0 * (0.4 + 0.3) * 0.45 * h  # joins about half-way through the step
     keys[2] = 16.0 * v_boundary * 0.6 * h  # joins later, or not at all
     vel = np.array([v_boundary, 0.5, 0.4, 0.3])
-    nact = _slipping(np.array([3, 4, 5, 7]), vel, 0.0, keys, W, IW, *arrays)
-    th, who, kind = _outer_scan(h, nact, W, IW, *arrays, loc)
+    nact = _slipping(np.array([3, 4, 5, 7]), vel, 0.0, keys, W, IW, arrays)
+    th, who, kind = _outer_scan(h, nact, W, IW, arrays, loc)
     assert kind == JOIN and 0.0 < th < 1.0
     raw = IW[CAND, : int(loc[LOC_NCAND])].tolist()
     assert raw.count(6) == 2
     n = _listed_(98, IW, loc)
     listed = IW[CAND, :n].tolist(), loc[LOC_THETA : LOC_THETA + n].tolist()
-    n = _collect_(h, nact, 99, W, IW, *arrays, loc)
+    n = _collect_(h, nact, 99, W, IW, arrays, loc)
     collected = IW[CAND, :n].tolist(), loc[LOC_THETA : LOC_THETA + n].tolist()
     assert listed == collected
     got = dict(zip(*listed, strict=True))

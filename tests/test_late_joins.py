@@ -13,7 +13,7 @@ import numba as nb
 import numpy as np
 import pytest
 
-from faultnet._kernels.bundles import Graph, Work
+from faultnet._kernels.bundles import Work, graph_bundle, work_array
 from faultnet._kernels.context import LOC_SIZE
 from faultnet._kernels.integrate import (
     ACTIVE,
@@ -43,15 +43,13 @@ K, SIGMA, ALPHA, H = 16.0, 0.01, 1.0, 0.04
 
 
 @nb.njit(cache=False)
-def _start(j, over, h, b, W, IW, indptr, indices, kval, diag, oms, cfr):
-    graph = Graph(indptr, indices, kval, diag, oms, cfr, 0.0)
+def _start(j, over, h, b, W, IW, graph):
     work = Work(W, IW, np.zeros(LOC_SIZE), np.zeros(CNT_SIZE, dtype=np.int64))
     _late_start(j, over, h, b, graph, work)
 
 
 @nb.njit(cache=False)
-def _theta(j, h, W, IW, indptr, indices, kval, diag, oms, cfr):
-    graph = Graph(indptr, indices, kval, diag, oms, cfr, 0.0)
+def _theta(j, h, W, IW, graph):
     work = Work(W, IW, np.zeros(LOC_SIZE), np.zeros(CNT_SIZE, dtype=np.int64))
     return _late_theta(j, h, graph, work)
 
@@ -82,11 +80,11 @@ def _chain():
     diag = np.array([1.0 + K, 1.0 + 2.0 * K, 1.0 + K])
     oms = np.full(3, 1.0 - SIGMA)
     cfr = 2.0 * ALPHA / oms
-    W = np.zeros((6, N_WORK))
+    W = work_array(3, N_WORK)
     IW = np.zeros((N_IWORK, 3), dtype=np.int64)
     IW[FLAG, :] = STUCK
     W[1, F0] = 0.9  # any: the late start reads only the neighbours' motion
-    return W, IW, (indptr, indices, kval, diag, oms, cfr)
+    return W, IW, graph_bundle(indptr, indices, kval, diag, oms, cfr)
 
 
 def _expected(tau, dF):
@@ -111,7 +109,7 @@ def test_join_through_a_slipping_neighbour(a2):
 
     over = rise(H) - rise(t_star)  # F(t*) = 1
     x1 = W[1, D]
-    _start(1, over, H, -1, W, IW, *g)
+    _start(1, over, H, -1, W, IW, g)
     tau = H - t_star
     v, dx = _expected(tau, K * (v0 + a2 * t_star))
     np.testing.assert_allclose(W[1, V], v, rtol=1e-12)
@@ -131,13 +129,13 @@ def test_join_revealed_by_a_neighbours_stop():
         return K * (-a_b) * (t_b * t - 0.5 * t * t)
 
     over = rise(t_b) - rise(t_star)  # F is constant after the stop
-    _start(1, over, H, 0, W, IW, *g)
+    _start(1, over, H, 0, W, IW, g)
     tau = H - t_star
     v, _ = _expected(tau, K * (-a_b) * (t_b - t_star))
     np.testing.assert_allclose(W[1, V], v, rtol=1e-12)
     # not told which neighbour stopped, it has no motion to go back through: a whole step
     W2, IW2, g2 = _chain()
-    _start(1, over, H, -1, W2, IW2, *g2)
+    _start(1, over, H, -1, W2, IW2, g2)
     assert W2[1, V] == pytest.approx(_expected(H, 0.0)[0])
 
 
@@ -147,7 +145,7 @@ def test_no_crossing_inside_the_step_starts_at_its_beginning():
     IW[FLAG, 2] = ACTIVE
     W[2, V] = 1e-4
     W[2, A] = 0.0
-    _start(1, 1.0, H, -1, W, IW, *g)  # far over the threshold
+    _start(1, 1.0, H, -1, W, IW, g)  # far over the threshold
     v, _ = _expected(H, K * 1e-4)
     np.testing.assert_allclose(W[1, V], v, rtol=1e-12)
     assert np.isfinite(W[1, A])
@@ -163,15 +161,15 @@ def test_late_theta_through_a_slipping_neighbour(a2):
     # K (v0 t + a2 t^2 / 2) = gap
     t_star = gap / (K * v0) if a2 == 0.0 else (-v0 + (v0 * v0 + 2 * a2 * gap / K) ** 0.5) / a2
     assert 0.0 < t_star < H
-    assert _theta(1, H, W, IW, *g) == pytest.approx(t_star / H, abs=1e-11)
+    assert _theta(1, H, W, IW, g) == pytest.approx(t_star / H, abs=1e-11)
     # a neighbour that stops after t* does not move the crossing; one over the threshold
     # at the step's start starts at its beginning
     IW[FLAG, 2] = STOPPING
     W[2, VS] = 0.9
     W[2, SV] = W[2, DN]
-    assert _theta(1, H, W, IW, *g) == pytest.approx(t_star / H, abs=1e-11)
+    assert _theta(1, H, W, IW, g) == pytest.approx(t_star / H, abs=1e-11)
     W[1, F0] = 1.0 + 1e-9
-    assert _theta(1, H, W, IW, *g) == 0.0
+    assert _theta(1, H, W, IW, g) == 0.0
 
 
 def test_late_theta_through_a_joining_neighbour():
@@ -187,4 +185,4 @@ def test_late_theta_through_a_joining_neighbour():
     # K (a u^2 + c u^3) = gap, a = 3 x1 - d1, c = d1 - 2 x1
     roots = np.roots([d1 - 2 * x1, 3 * x1 - d1, 0.0, -gap / K])
     u = min(r.real for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0)
-    assert _theta(1, H, W, IW, *g) == pytest.approx(tj + u * L, abs=1e-11)
+    assert _theta(1, H, W, IW, g) == pytest.approx(tj + u * L, abs=1e-11)

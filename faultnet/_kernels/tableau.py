@@ -12,7 +12,7 @@ from faultnet._kernels.jit import inline_kernel, kernel
 __all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense", "stage_rows"]
 
 # The stage derivatives of the block at active position q are row N + q of the work array
-# ``work.W`` (float64[2 N, N_WORK]), below the N blocks' own rows: a block's row then fits in
+# ``work.W`` (float64[2 N + 1, N_WORK]), below the N blocks' own rows: a block's row then fits in
 # 96 bytes, which counts on graphs that do not fit in the cache, and the kernels still take one
 # array (a second array in the ``Work`` bundle cost the ring W1 3-5%: every crossing kernel
 # takes the bundle).  :func:`stage_rows` is the view of those rows.
@@ -74,8 +74,9 @@ def slot_dense(y0, y1, h, K, q, col, end):
 
 @inline_kernel
 def stage_rows(work):
-    """The DP5 stage derivatives: rows N.. of ``work.W``, row q for active position q.
+    """The DP5 stage derivatives: rows N to 2 N - 1 of ``work.W``, row q for active position q.
 
     A view; the kernels run without Numba's reference counting, so it costs nothing.
     """
-    return work.W[work.IW.shape[1] :]
+    n = work.IW.shape[1]
+    return work.W[n : 2 * n]
