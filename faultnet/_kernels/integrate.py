@@ -134,7 +134,7 @@ def force_hot(i, pos, W, graph):
         for c in range(nbr.shape[1]):
             s += W[nbr[i, c], pos]
         return W[i, F0] + k * s - graph.diag[i] * W[i, pos]
-    return force(i, pos, W, graph)
+    return force(np.int64(i), pos, W, graph)  # int64: dopri_step's blocks are unsigned
 
 
 @inline_kernel
