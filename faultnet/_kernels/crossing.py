@@ -181,15 +181,16 @@ def block_crossings(
             best, who, kind = th, i, STICK
         if listing and th <= 1.0:
             _list(i, th if W[i, V] > 0.0 and v1 <= 0.0 else 2.0, IW, loc)
-    for p in range(indptr[i], indptr[i + 1]):
+    for p in range(np.uint64(indptr[i]), np.uint64(indptr[i + 1])):
         j = indices[p]
-        if IW[FLAG, j] == ACTIVE:
+        u = np.uint64(j)  # unsigned: no negative-index wrap-around in the hot accesses
+        if IW[FLAG, u] == ACTIVE:
             continue
-        seen = keep and IW[MARK, j] == stamp  # evaluated for an earlier neighbour in this step
-        f1 = W[j, AN] if seen else force_hot(j, pos, W, graph)
+        seen = keep and IW[MARK, u] == stamp  # evaluated for an earlier neighbour in this step
+        f1 = W[u, AN] if seen else force_hot(u, pos, W, graph)
         if keep and not seen:
-            W[j, AN] = f1
-            IW[MARK, j] = stamp
+            W[u, AN] = f1
+            IW[MARK, u] = stamp
         if f1 < 1.0:
             continue
         if seen:
