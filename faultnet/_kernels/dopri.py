@@ -269,22 +269,9 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
         W[i, AN] = _acc(i, P2, W[i, VN], W, graph)
         if scan:
             # P2 holds every active block's end position (P is being updated)
+            sq, si = np.int64(q), np.int64(i)  # signed again: the scan's one signature
             best, who, kind, status = block_crossings(
-                1,
-                h,
-                q0,
-                np.int64(q),
-                np.int64(i),
-                P2,
-                vmax,
-                best,
-                who,
-                kind,
-                listing,
-                keep,
-                stamp,
-                graph,
-                work,
+                1, h, q0, sq, si, P2, vmax, best, who, kind, listing, keep, stamp, graph, work
             )
             if status != STATUS_OK:
                 return best, who, kind, status
