@@ -162,7 +162,9 @@ class Simulator:
     def set_model(self, model):
         """Continue with another model on the same blocks (e.g. a new alpha).
 
-        The topology, the state and every work array are kept; only the
+        The model must have the same blocks, in the same order, joined by the same springs;
+        their constants may differ.  The topology, the state and every work array are kept;
+        only the
         per-block parameters, the solo-slip cache and the failure keys are
         renewed, and the step is re-derived when ``options.dt`` is None.  The
         events that follow equal a fresh run of ``model`` from
@@ -185,6 +187,15 @@ class Simulator:
                 f"set_model needs a model on the same blocks ({self._model.n} blocks in the "
                 f"same node order); got {model.n} blocks. Start a new Simulator from "
                 "sim.state for another graph"
+            )
+        new, old = model.adjacency, self._model.adjacency
+        if not (
+            np.array_equal(new.indptr, old.indptr) and np.array_equal(new.indices, old.indices)
+        ):
+            raise InvalidParameterError(
+                "set_model needs a model on the same blocks joined by the same springs (their "
+                "constants may differ); the new model's graph has other edges. Start a new "
+                "Simulator from sim.state for another graph"
             )
         dt = self._options.step(model)
         self._arrays.set_parameters(model, dt)

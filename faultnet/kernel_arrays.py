@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from faultnet._kernels.bundles import Records, Work, graph_bundle, work_array
+from faultnet._kernels.bundles import Records, Work, graph_bundle, padded_neighbours, work_array
 from faultnet._kernels.bundles import State as KernelState
 from faultnet._kernels.layout import (
     CNT_EVENTS,
@@ -187,6 +187,7 @@ class KernelArrays:
         adj = model.adjacency
         self.indptr = adj.indptr.astype(np.int64)
         self.indices = adj.indices.astype(np.int64)
+        self.nbr = padded_neighbours(self.indptr, self.indices)  # topology: once per simulation
         self.z = np.array(state.z, dtype=np.float64)
         self.scal = np.zeros(SCAL_SIZE, dtype=np.float64)
         self.scal[SCAL_OFFSET], self.scal[SCAL_W] = state.offset, state.w
@@ -237,6 +238,7 @@ class KernelArrays:
             model.stiffness.astype(np.float64),
             oms,
             2.0 * model.alpha_values / oms,
+            self.nbr,
         )
         self.ctrl[CTRL_DT] = dt
         self.ctrl[CTRL_LOCAL_FROM] = self.options.regions_from(model)

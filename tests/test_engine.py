@@ -219,6 +219,12 @@ def test_set_model_equals_a_fresh_run_from_the_state():
     assert kept.dt == fresh.dt != faultnet.default_dt(model)  # the step follows alpha
     with pytest.raises(InvalidParameterError, match="same blocks"):
         sim.set_model(_ring(n=41))
+    # the same blocks, other springs: the kernels would read the old springs' layout
+    chain = faultnet.CarlsonLanger(faultnet.graphs.chain(model.n), alpha=2.0)
+    assert list(chain.nodes) == list(model.nodes)
+    with pytest.raises(InvalidParameterError, match="same springs"):
+        sim.set_model(chain)
+    sim.set_model(new.with_params(k=9.0))  # other spring constants are fine
 
 
 def test_options_are_recorded_and_change_results():

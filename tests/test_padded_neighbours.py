@@ -64,6 +64,10 @@ def test_table_pads_with_the_ghost_row():
     adj = nx.to_scipy_sparse_array(g, nodelist=range(4), format="csr")
     nbr = padded_neighbours(adj.indptr, adj.indices)
     assert nbr.tolist() == [[1, 8, 8], [0, 2, 3], [1, 3, 8], [1, 2, 8]]
+    # equal degrees (a ring, a periodic lattice): the CSR rows themselves, no ghost
+    ring = nx.to_scipy_sparse_array(nx.cycle_graph(6), format="csr")
+    nbr = padded_neighbours(ring.indptr, ring.indices)
+    assert nbr.tolist() == ring.indices.reshape(6, 2).tolist()
 
 
 def test_a_graph_with_hubs_gets_no_table_and_the_general_force():

@@ -87,7 +87,7 @@ Records = namedtuple(
 
 
 def padded_neighbours(indptr, indices):
-    """The neighbour table ``nbr`` of :data:`Graph`, from the CSR arrays.
+    """The neighbour table ``nbr`` of :data:`Graph`, from the CSR arrays (int64).
 
     Row i lists block i's neighbours in CSR order, then the ghost row of ``W`` (index 2 N, all
     zeros) up to the largest degree, so that a force sum runs the same number of times for
@@ -106,27 +106,33 @@ def padded_neighbours(indptr, indices):
     """
     n = indptr.shape[0] - 1
     deg = np.diff(indptr)
-    dmax = int(deg.max()) if n > 0 else 0
+    dmax = int(deg.max(initial=0))
     width = dmax if dmax <= 2 * indices.shape[0] / max(n, 1) + 8 else 0
     nbr = np.full((n, width), 2 * n, dtype=np.uint64)
+    if width and deg.min() == width:  # every block has the same degree (a lattice, a ring)
+        nbr[:] = indices.reshape(n, width)
+        return nbr
     for c in range(width):
         has = deg > c
         nbr[has, c] = indices[indptr[:-1][has] + c]
     return nbr
 
 
-def graph_bundle(indptr, indices, kval, diag, oms, cfr):
+def graph_bundle(indptr, indices, kval, diag, oms, cfr, nbr=None):
     """The :data:`Graph` of CSR arrays and per-block parameters (float64 ``kval``, ``diag``, ...).
 
+    ``nbr``: the graph's :func:`padded_neighbours`, built here if not given (it depends on the
+    topology only, so a simulation builds it once for every set of parameters).
     ``k_uniform`` is the springs' constant where all are equal and positive and the neighbour
     table holds every neighbour, else 0.0.
     """
     indptr = np.asarray(indptr, dtype=np.int64)
     indices = np.asarray(indices, dtype=np.int64)
     kval = np.asarray(kval, dtype=np.float64)
-    nbr = padded_neighbours(indptr, indices)
-    full = indptr.shape[0] == 1 or nbr.shape[1] == int(np.diff(indptr).max())
-    uniform = full and kval.size > 0 and kval[0] > 0.0 and bool(np.all(kval == kval[0]))
+    if nbr is None:
+        nbr = padded_neighbours(indptr, indices)
+    hubs = nbr.shape[1] < int(np.diff(indptr).max(initial=0))
+    uniform = not hubs and kval.size > 0 and kval[0] > 0.0 and bool(np.all(kval == kval[0]))
     return Graph(
         indptr=indptr,
         indices=indices,
