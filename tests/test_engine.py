@@ -285,3 +285,28 @@ def test_trace_nodes_takes_one_label_alone():
     ) == [4]
     with pytest.raises(faultnet.InvalidParameterError, match="trace_nodes must be node labels"):
         faultnet.simulate(ring, 3, rng=1, progress=False, trace_nodes=99)
+
+
+def test_collector_paused_during_kernel_calls_only():
+    """The garbage collector is off inside a kernel call and back on after it, even on errors."""
+    import gc
+
+    from faultnet.kernel_arrays import collector_paused
+
+    assert gc.isenabled()
+    with collector_paused():
+        assert not gc.isenabled()
+    assert gc.isenabled()
+    with pytest.raises(ZeroDivisionError), collector_paused():
+        1 / 0
+    assert gc.isenabled()
+    faultnet.simulate(faultnet.CarlsonLanger(faultnet.graphs.ring(10)), 5, rng=1, progress=False)
+    assert gc.isenabled()
+    gc.disable()  # a caller that turned it off keeps it off
+    try:
+        with collector_paused():
+            pass
+        faultnet.simulate(faultnet.CarlsonLanger(faultnet.graphs.ring(10)), 5, rng=1, progress=False)
+        assert not gc.isenabled()
+    finally:
+        gc.enable()
