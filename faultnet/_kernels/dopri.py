@@ -38,7 +38,7 @@ from faultnet._kernels.integrate import (
     force_hot,
     new_id,
 )
-from faultnet._kernels.jit import forced_inline, inline_kernel, kernel
+from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.tableau import (
     _A21,
     _A31,
@@ -136,7 +136,7 @@ def boundary_at(th, W, K, IW, loc):
     boundary_positions(P2, th, W, K, IW, loc)
 
 
-@forced_inline
+@inline_kernel
 def _acc(i, pos, v, W, graph):
     """Acceleration of block i at stage positions ``pos`` and stage velocity ``v``."""
     den = 1.0 + graph.cfr[i] * v
@@ -165,7 +165,7 @@ def dopri_step(h, q0, nact, scan, vmax, graph, work):
     step starts at fraction ``loc[LOC_REGION_T]`` of that outer step.
 
     ``graph``, ``work``: :class:`~faultnet._kernels.bundles.Graph` and ``Work``, unpacked
-    once here; the stage passes call :func:`_acc` (inlined by LLVM) and inline the scan.
+    once here; the stage passes inline :func:`_acc` and the scan.
 
     The passes index with unsigned integers (active positions q, blocks i), for which Numba
     omits its negative-index wrap-around: 2-5% more events/s on W1, W4 and W5.  The scan and

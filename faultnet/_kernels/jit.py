@@ -19,17 +19,7 @@ compile of a lattice run (``benchmarks/run.py --compile-only``) and on events/s:
   DP5 stages' acceleration as a kernel cost 17-22% of events/s on the lattices, and
   :func:`~faultnet._kernels.integrate.accel` and the landing's septic helpers as kernels 6%
   of the exact treatment's on W4;
-- a helper with one call site gains nothing from either: inlined, it is typed once anyway;
-- a hot helper inlined at several call sites of one kernel (the DP5 stages' acceleration,
-  six passes of :func:`~faultnet._kernels.dopri.dopri_step`) is a :data:`forced_inline`
-  kernel: typed and lowered once like a kernel, and marked ``alwaysinline`` for LLVM, which
-  then inlines it as Numba would have (bit-identical catalogs, the same events/s):
-  ``dopri_step``'s lowering 0.46 s instead of 0.72 s, 0.5-1 s of a cold compile.  Each such
-  kernel has a library of its own to optimise, so a helper with few call sites gains nothing.
-
-Every decorator sets ``forceinline`` explicitly: Numba lets a kernel compiled while a
-``forceinline`` one is being typed inherit the flag, which would make the flags of a
-helper depend on which caller compiled it first.
+- a helper with one call site gains nothing from either: inlined, it is typed once anyway.
 
 A kernel compiles once per signature, and Numba types a Python ``int`` or ``bool`` constant
 argument as a literal, one signature per value.  So the constants that kernels pass to one
@@ -40,16 +30,14 @@ lattice run 7 fewer compiled kernels, bit-identical catalogs.
 
 import numba as nb
 
-__all__ = ["INNER", "entry", "forced_inline", "inline_kernel", "kernel"]
+__all__ = ["INNER", "entry", "inline_kernel", "kernel"]
 
 #: options of the kernels called from compiled code only
 INNER = {"nogil": True, "_nrt": False, "no_cpython_wrapper": True, "no_cfunc_wrapper": True}
 
 #: a kernel called from other kernels
-kernel = nb.njit(cache=True, forceinline=False, **INNER)
+kernel = nb.njit(cache=True, **INNER)
 #: a kernel inlined into its callers (Numba IR inlining, before typing)
-inline_kernel = nb.njit(cache=True, inline="always", forceinline=False, **INNER)
-#: a kernel that LLVM inlines into its callers (``alwaysinline``), typed and lowered once
-forced_inline = nb.njit(cache=True, forceinline=True, **INNER)
+inline_kernel = nb.njit(cache=True, inline="always", **INNER)
 #: a kernel called from Python
-entry = nb.njit(cache=True, nogil=True, _nrt=False, forceinline=False)
+entry = nb.njit(cache=True, nogil=True, _nrt=False)
