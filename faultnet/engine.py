@@ -164,9 +164,8 @@ class Simulator:
 
         The model must have the same blocks, in the same order, joined by the same springs;
         their constants may differ.  The topology, the state and every work array are kept;
-        only the
-        per-block parameters, the solo-slip cache and the failure keys are
-        renewed, and the step is re-derived when ``options.dt`` is None.  The
+        only the per-block parameters, the solo-slip cache and the failure keys are renewed,
+        and the step is re-derived when ``options.dt`` is None.  The
         events that follow equal a fresh run of ``model`` from
         :attr:`state`, bit for bit.
 

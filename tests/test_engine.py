@@ -288,7 +288,8 @@ def test_trace_nodes_takes_one_label_alone():
 
 
 def test_collector_paused_during_kernel_calls_only():
-    """The garbage collector is off inside a kernel call and back on after it, even on errors."""
+    """collector_paused turns the collector off and back on, also on errors; simulate leaves
+    it as the caller had it."""
     import gc
 
     from faultnet.kernel_arrays import collector_paused
