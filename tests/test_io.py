@@ -44,6 +44,33 @@ def test_round_trip_dataframe_and_metadata(tmp_path, ring_result):
     assert fio.read_metadata(tmp_path / "again.parquet") == md
 
 
+def _encodings(path):
+    meta = pq.ParquetFile(path).metadata
+    row_group = meta.row_group(meta.num_row_groups - 1)
+    return {
+        row_group.column(c).path_in_schema: set(row_group.column(c).encodings)
+        for c in range(row_group.num_columns)
+    }
+
+
+def test_parts_and_merged_catalog_encode_by_column_kind(tmp_path, ring_result):
+    """Floats plain, event numbers delta-coded, repeating integers with dictionaries."""
+    events = ring_result.events
+    parts = [tmp_path / "a.parquet", tmp_path / "b.parquet"]
+    fio.write_part(events.iloc[:150], parts[0])
+    fio.write_part(events.iloc[150:], parts[1])
+    fio.merge_parts(parts, tmp_path / "all.parquet", {"note": "merged"})
+    for path in [*parts, tmp_path / "all.parquet"]:
+        enc = _encodings(path)
+        for name in ("t", "duration", "S", "M"):
+            assert "RLE_DICTIONARY" not in enc[name] and "PLAIN" in enc[name], (path, name)
+        assert "DELTA_BINARY_PACKED" in enc["event"], path
+        for name in ("n_blocks", "hypocenter", "n_steps"):
+            assert "RLE_DICTIONARY" in enc[name], (path, name)
+    back = pd.read_parquet(tmp_path / "all.parquet")
+    pd.testing.assert_frame_equal(back, events, check_exact=True)
+
+
 def test_string_and_tuple_node_labels(tmp_path):
     g = nx.relabel_nodes(faultnet.graphs.ring(12), {i: f"b{i}" for i in range(12)})
     res = faultnet.simulate(faultnet.CarlsonLanger(g), 60, rng=1, progress=False)
