@@ -67,7 +67,7 @@ from faultnet._kernels.slip import (
     integrate_local,
     record_trace,
 )
-from faultnet._kernels.solo import solo_apply, solo_free, solo_slip
+from faultnet._kernels.solo import solo_apply, solo_end, solo_free, solo_start
 from faultnet._kernels.stepping import activate, join_scan, touch
 from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
 
@@ -128,10 +128,11 @@ def _one_event(integrate, method, ev, state, graph, ctrl, cls, solo, work, recor
     """Load the plate to the next failure and run one slip event to its end.
 
     ``records.out`` receives the event's catalog row (``layout.OUT_*``).  Returns a status
-    code.
+    code.  A free single-block slip is taken from its class's cached solo slip; a class's
+    first one is integrated first, by the same call of ``integrate`` as the events, so that
+    Numba inlines (and compiles) the integration once.
     """
     scal, keys, tree = state.scal, state.keys, state.tree
-    W, IW, cnt = work.W, work.IW, work.cnt
     out = records.out
     hyp = tree[1]
     # loaded to the threshold (force exactly 1), or already above it (given states)
@@ -141,45 +142,58 @@ def _one_event(integrate, method, ev, state, graph, ctrl, cls, solo, work, recor
     w = scal[SCAL_W]
     out[OUT_T] = scal[SCAL_OFFSET] + w
     out[OUT_HYPOCENTER] = hyp
-    if at_threshold and ctrl[CTRL_SOLO_CACHE] > 0.0 and records.trace_nodes.shape[0] == 0:
-        # free single-block slip: reuse the block class's solo slip when no
-        # neighbour can reach the threshold during it
-        c = cls[hyp]
-        if not (solo[c, SOLO_SLIP] == solo[c, SOLO_SLIP]):
-            s1, t1, n1, status = solo_slip(
-                integrate, method, hyp, ev, state, ctrl, graph, work, records
-            )
-            if status != STATUS_OK:
-                return status
-            solo[c, SOLO_SLIP] = s1
-            solo[c, SOLO_DURATION] = t1
-            solo[c, SOLO_STEPS] = n1
-        s1 = solo[c, SOLO_SLIP]
-        if solo_free(hyp, s1, w, keys, graph):
-            solo_apply(hyp, s1, ev, state, graph, cnt, records)
+    # free single-block slip: reuse the block class's solo slip when no neighbour can reach
+    # the threshold during it
+    solo_case = at_threshold and ctrl[CTRL_SOLO_CACHE] > 0.0 and records.trace_nodes.shape[0] == 0
+    c = cls[hyp]
+    computing = solo_case and not (solo[c, SOLO_SLIP] == solo[c, SOLO_SLIP])
+    # at most two passes: the class's solo slip integrated (NaN in the cache), then the event
+    while True:
+        if computing:
+            saved = solo_start(hyp, graph, work)
+            nact = ntouch = hyp - hyp + 1  # int64, not a literal
+            run_w = 0.0
+        elif solo_case and solo_free(hyp, solo[c, SOLO_SLIP], w, keys, graph):
+            solo_apply(hyp, solo[c, SOLO_SLIP], ev, state, graph, work.cnt, records)
             out[OUT_DURATION] = solo[c, SOLO_DURATION]
-            out[OUT_SLIP] = s1
+            out[OUT_SLIP] = solo[c, SOLO_SLIP]
             out[OUT_BLOCKS] = 1
             out[OUT_STEPS] = solo[c, SOLO_STEPS]
             return STATUS_OK
-    zero = hyp - hyp  # int64, not a literal: one compiled signature per kernel
-    ntouch = touch(hyp, w, keys, W, IW, zero)
-    nact, ntouch = activate(hyp, zero, ntouch, w, keys, graph, work)
-    nact, ntouch = join_scan(zero, nact, ntouch, w, keys, graph, work)
-    if records.trace_nodes.shape[0] > 0:
-        record_trace(ev, 0.0, state, work, records)
-    status, t, nsteps, ntouch = integrate(
-        method, ev, nact, ntouch, w, state, ctrl, graph, work, records
-    )
-    if status != STATUS_OK:
-        return status
+        else:
+            nact, ntouch = _start(hyp, w, state, graph, work)
+            if records.trace_nodes.shape[0] > 0:
+                record_trace(ev, 0.0, state, work, records)
+            run_w = w
+        status, t, nsteps, ntouch = integrate(
+            method, ev, nact, ntouch, run_w, state, ctrl, graph, work, records
+        )
+        if status != STATUS_OK:
+            return status
+        if not computing:
+            break
+        solo[c, SOLO_SLIP] = solo_end(hyp, saved, work)
+        solo[c, SOLO_DURATION] = t
+        solo[c, SOLO_STEPS] = nsteps
+        computing = False
     total, nblk = _finish_event(ntouch, ev, state, graph, work, records)
     out[OUT_DURATION] = t
     out[OUT_SLIP] = total
     out[OUT_BLOCKS] = nblk
     out[OUT_STEPS] = nsteps
-    cnt[CNT_STEPS] += nsteps
+    work.cnt[CNT_STEPS] += nsteps
     return STATUS_OK
+
+
+@inline_kernel
+def _start(hyp, w, state, graph, work):
+    """Touch and activate the hypocentre and every block it brings over the threshold."""
+    keys = state.keys
+    W, IW = work.W, work.IW
+    zero = hyp - hyp  # int64, not a literal: one compiled signature per kernel
+    ntouch = touch(hyp, w, keys, W, IW, zero)
+    nact, ntouch = activate(hyp, zero, ntouch, w, keys, graph, work)
+    return join_scan(zero, nact, ntouch, w, keys, graph, work)
 
 
 @kernel

@@ -19,7 +19,11 @@ compile of a lattice run (``benchmarks/run.py --compile-only``) and on events/s:
   DP5 stages' acceleration as a kernel cost 17-22% of events/s on the lattices, and
   :func:`~faultnet._kernels.integrate.accel` and the landing's septic helpers as kernels 6%
   of the exact treatment's on W4;
-- a helper with one call site gains nothing from either: inlined, it is typed once anyway.
+- a helper with one call site is typed once either way.  Inlined, it has no library of its
+  own, whose linked-in callees LLVM would optimise and emit once more, but its caller grows:
+  the event's integration (:mod:`faultnet._kernels.slip`) inlined into the event loop saves
+  1.6-1.9 s of a lattice's cold compile, ``interpolated_crossings`` inlined into the
+  integration saved none.
 
 A kernel compiles once per signature, and Numba types a Python ``int`` or ``bool`` constant
 argument as a literal, one signature per value.  So the constants that kernels pass to one

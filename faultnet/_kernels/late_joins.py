@@ -236,7 +236,7 @@ def _check(j, joining, h, ncand, ntouch, w, keys, graph, work):
 
     A block next to a ``joining`` one may not be touched yet (its start force unknown): it is
     touched here (every neighbour of a slipping block is touched; an untouched neighbour of
-    the block of a solo slip is held, ``solo.solo_slip``).  Otherwise j is next to a block
+    the block of a solo slip is held, ``solo.solo_start``).  Otherwise j is next to a block
     that slipped through the step, whose scan kept j's force at the end of the step in
     ``W[j, AN]``: since then no neighbour's end position moved by more than the step's
     summed moves ``loc[LOC_MOVED]``, so j's force cannot have reached 1 if that force plus

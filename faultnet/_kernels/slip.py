@@ -1,9 +1,12 @@
 """One slip event's integration, from its first slipping blocks until every block has stopped.
 
-Three kernels, one per treatment of the stops and joins ("crossings").  They take the same
-arguments and return ``(status, duration, steps, ntouch)``; the entry kernels
+Three integrations, one per treatment of the stops and joins ("crossings").  They take the
+same arguments and return ``(status, duration, steps, ntouch)``; the entry kernels
 (:mod:`faultnet._kernels.events`) receive one of them as an argument, so a run compiles only
-the treatment it uses:
+the treatment it uses.  Numba inlines the integration at its one call site in the event loop:
+as a kernel of its own, its library (the step, the crossings and the late joins linked in)
+was optimised and emitted by LLVM once more than the entry's, 1.6-1.9 s of a cold compile on
+a lattice that only the entry's copy runs.
 
 - :func:`integrate_exact`: every crossing is reached by the scheme itself, by a partial step
   or (a DP5 join) a landing on the step's interpolant, and polished to round-off
@@ -24,6 +27,7 @@ number, for traces), ``nact`` / ``ntouch`` (lengths of the active and touched li
 
 from faultnet._kernels.context import LOC_NCAND
 from faultnet._kernels.crossing import STATUS_EVENT_TOO_LONG, STATUS_OK
+from faultnet._kernels.dopri import dopri_step
 from faultnet._kernels.integrate import D, V
 from faultnet._kernels.interp import interpolated_crossings
 from faultnet._kernels.jit import inline_kernel, kernel
@@ -159,23 +163,24 @@ def _exact_loop(method, regions, ev, nact, ntouch, w, state, ctrl, graph, work, 
     return STATUS_OK, t, nsteps, ntouch
 
 
-@kernel
+@inline_kernel
 def integrate_exact(method, ev, nact, ntouch, w, state, ctrl, graph, work, records):
     """Integrate the active blocks until every block has stopped, each crossing reached exactly."""
     return _exact_loop(method, no_regions, ev, nact, ntouch, w, state, ctrl, graph, work, records)
 
 
-@kernel
+@inline_kernel
 def integrate_local(method, ev, nact, ntouch, w, state, ctrl, graph, work, records):
     """As :func:`integrate_exact`, with the crossings of large events in local regions (DP5)."""
     return _exact_loop(method, local_step, ev, nact, ntouch, w, state, ctrl, graph, work, records)
 
 
-@kernel
+@inline_kernel
 def integrate_interpolated(method, ev, nact, ntouch, w, state, ctrl, graph, work, records):
     """Integrate the active blocks until every block has stopped, crossings on the dense output.
 
-    Every full DP5 step is kept.  A step whose crossings overflow their list (``IW[CAND]``, one
+    DP5 only (its steps call :func:`~faultnet._kernels.dopri.dopri_step` directly).  Every
+    full DP5 step is kept.  A step whose crossings overflow their list (``IW[CAND]``, one
     row: only in events spanning most of a small graph) is taken again at half the length, and
     the step grows back to dt by doubling.
     """
@@ -191,7 +196,7 @@ def integrate_interpolated(method, ev, nact, ntouch, w, state, ctrl, graph, work
     h = dt
     while nact > 0:
         loc[LOC_NCAND] = 0.0
-        th, who, kind, status = step_scan(method, h, zero, nact, vmax, scan, graph, work)
+        th, who, kind, status = dopri_step(h, zero, nact, scan, vmax, graph, work)
         if status != STATUS_OK:
             return status, t, nsteps, ntouch
         nsteps += 1

@@ -3,15 +3,13 @@
 A block that starts from rest at the threshold while every neighbour is held follows a path
 that depends only on its own stiffness, sigma and alpha.  The event loop
 (:mod:`faultnet._kernels.events`) integrates it once per such parameter class
-(:func:`solo_slip`), then takes every later event of the class from the cache when
-:func:`solo_free` shows that no neighbour reaches the threshold during it
+(:func:`solo_start`, :func:`solo_end`), then takes every later event of the class from the
+cache when :func:`solo_free` shows that no neighbour reaches the threshold during it
 (:func:`solo_apply`).
 
 ``state``, ``graph``, ``work`` and ``records`` are the bundles of
 :mod:`faultnet._kernels.bundles`.
 """
-
-import numpy as np
 
 from faultnet._kernels.integrate import (
     ACT,
@@ -41,7 +39,7 @@ from faultnet._kernels.layout import (
 )
 from faultnet._kernels.tree import block_key, tree_update
 
-__all__ = ["SOLO_MARGIN", "solo_apply", "solo_free", "solo_slip"]
+__all__ = ["SOLO_MARGIN", "solo_apply", "solo_end", "solo_free", "solo_start"]
 
 #: a neighbour's force must stay this far below 1 for a free single-block slip
 SOLO_MARGIN = 1e-12
@@ -52,15 +50,16 @@ _HELD = -1e300
 
 
 @inline_kernel
-def solo_slip(integrate, method, i, ev, state, ctrl, graph, work, records):
-    """Slip of block i alone: from rest at the threshold, every neighbour held.
+def solo_start(i, graph, work):
+    """Set block i up to slip alone: from rest at the threshold, every neighbour held.
 
-    Integrated by the run's own ``integrate`` (:mod:`faultnet._kernels.slip`), with the
-    neighbours' starting forces set to -1e300 so that none can join (starting
-    forces are written afresh whenever a block is touched).  Such a slip
-    depends only on the block's own parameters (stiffness, sigma, alpha), so
-    it is computed once per parameter class and reused.  Leaves the work
-    arrays as it found them.  Returns (slip, duration, steps, status).
+    The event loop then integrates it with the run's own integration
+    (:mod:`faultnet._kernels.slip`); the neighbours' starting forces are set to -1e300 so that
+    none can join (starting forces are written afresh whenever a block is touched).  Such a
+    slip depends only on the block's own parameters (stiffness, sigma, alpha), so it is
+    computed once per parameter class and reused.  Returns the work counters to restore
+    afterwards (:func:`solo_end`): a cached solo slip is set-up, not part of any event, so a
+    run's counters do not depend on how it was cut into calls.
     """
     W, IW, cnt = work.W, work.IW, work.cnt
     for p in range(graph.indptr[i], graph.indptr[i + 1]):
@@ -73,17 +72,19 @@ def solo_slip(integrate, method, i, ev, state, ctrl, graph, work, records):
     W[i, V] = 0.0
     W[i, VN] = 0.0
     W[i, A] = accel(i, P, V, W, graph)
-    # work counters: a cached solo slip is set-up, not part of any event (so
-    # a run's counters do not depend on how it was cut into calls)
-    saved = (
+    return (
         cnt[CNT_BLOCK_STEPS],
         cnt[CNT_PARTIAL_BLOCK_STEPS],
         cnt[CNT_RELOCATIONS],
         cnt[CNT_LANDED_JOINS],
         cnt[CNT_INTERPOLATED_CROSSINGS],
     )
-    one = np.int64(1)  # not the literal 1: integrate keeps one compiled signature
-    status, t, n, _ = integrate(method, ev, one, one, 0.0, state, ctrl, graph, work, records)
+
+
+@inline_kernel
+def solo_end(i, saved, work):
+    """The solo slip of block i; restores the counters and leaves the work arrays as found."""
+    W, IW, cnt = work.W, work.IW, work.cnt
     cnt[CNT_BLOCK_STEPS] = saved[0]
     cnt[CNT_PARTIAL_BLOCK_STEPS] = saved[1]
     cnt[CNT_RELOCATIONS] = saved[2]
@@ -96,7 +97,7 @@ def solo_slip(integrate, method, i, ev, state, ctrl, graph, work, records):
     W[i, V] = 0.0
     W[i, VN] = 0.0
     IW[FLAG, i] = UNTOUCHED
-    return s, t, n, status
+    return s
 
 
 @kernel
