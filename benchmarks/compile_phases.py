@@ -1,0 +1,165 @@
+"""Where a cold compile's time goes: Numba's passes, LLVM's, and each kernel's share.
+
+    python benchmarks/compile_phases.py lattice
+    python benchmarks/compile_phases.py ring --top 20
+    python benchmarks/compile_phases.py lattice --rounds 3 --python /tmp/venv/bin/python
+
+Each round runs the first ``simulate`` call of one of ``benchmarks/run.py``'s compile models
+(``COMPILE_GRAPHS``: ``ring``, ``lattice``, ``exact``) in a child process with an empty Numba
+cache and the garbage collector off (its passes over the compiler's objects, 1.5-1.8 s, would
+land in whichever phase they interrupt).  The child wraps Numba's compiler methods with timers,
+for this measurement only, and prints:
+
+- the time in each phase, each timed function counted without the timed functions it calls:
+  Numba's passes (bytecode and IR passes, inlining, typing, lowering to LLVM IR) and LLVM's
+  (function passes while lowering, each library's module passes and machine code);
+- each kernel's own compile time (without the kernels it compiles in turn), the LLVM time of
+  its library (module passes and machine code, over its own code and every kernel linked
+  into it) and its number of Numba IR statements.
+
+The interpreter is ``--python`` (default: this one).  A fresh virtual environment with the
+README's install measures what a user gets: a globally installed colorama, for instance, adds
+about 0.8 s to Numba's formatting of rejected typing candidates.  Run by hand; never a test.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+#: the phases, in the order printed: (key, label)
+PHASES = (
+    ("bytecode", "Numba: other passes (bytecode, IR, inlining)"),
+    ("typing", "Numba: typing"),
+    ("lowering", "Numba: lowering to LLVM IR"),
+    ("fpass", "LLVM: function passes"),
+    ("modpass", "LLVM: module passes (each library)"),
+    ("mcode", "LLVM: machine code (each library)"),
+    ("other", "other (caches, wrappers, the run itself)"),
+)
+
+
+def _child(graph):
+    """Compile and run one model with timers on Numba's compiler; print the result as JSON."""
+    import collections
+    import gc
+    import time
+
+    from numba.core import codegen, compiler_machinery, dispatcher, lowering
+
+    gc.disable()
+    phase = collections.Counter()
+    own, llvm, stmts = collections.Counter(), collections.Counter(), {}
+    stack, kstack = [], []
+
+    def timed(cls, name, key_of):
+        f = getattr(cls, name)
+
+        def g(self, *a, **k):
+            key = key_of(self, *a)
+            t = time.perf_counter()
+            stack.append(0.0)
+            try:
+                return f(self, *a, **k)
+            finally:
+                dt = time.perf_counter() - t
+                phase[key] += dt - stack.pop()
+                if stack:
+                    stack[-1] += dt
+                if key in ("modpass", "mcode"):
+                    llvm[self.name] += dt
+
+        setattr(cls, name, g)
+
+    def pass_key(self, index, pss, state):
+        name = pss.name()
+        return (
+            "typing"
+            if name == "nopython_type_inference"
+            else ("lowering" if name == "native_lowering" else "bytecode")
+        )
+
+    timed(compiler_machinery.PassManager, "_runPass", pass_key)
+    timed(lowering.Lower, "lower", lambda self: "lowering")
+    timed(codegen.CPUCodeLibrary, "_optimize_functions", lambda self, *a: "fpass")
+    timed(codegen.CPUCodeLibrary, "_optimize_final_module", lambda self: "modpass")
+    timed(codegen.JITCodeLibrary, "_finalize_specific", lambda self: "mcode")
+
+    compile_ = dispatcher.Dispatcher.compile
+
+    def compile_timed(self, sig):
+        t = time.perf_counter()
+        kstack.append(0.0)
+        try:
+            return compile_(self, sig)
+        finally:
+            dt = time.perf_counter() - t
+            own[self.py_func.__qualname__] += dt - kstack.pop()
+            if kstack:
+                kstack[-1] += dt
+
+    dispatcher.Dispatcher.compile = compile_timed
+    lower = lowering.Lower.lower
+
+    def lower_counting(self):
+        stmts[self.fndesc.qualname] = sum(len(b.body) for b in self.func_ir.blocks.values())
+        return lower(self)
+
+    lowering.Lower.lower = lower_counting
+
+    from run import COMPILE_GRAPHS
+
+    import faultnet
+
+    t = time.perf_counter()
+    model = eval(f"faultnet.CarlsonLanger({COMPILE_GRAPHS[graph]})")
+    faultnet.simulate(model, 1, rng=1, progress=False)
+    total = time.perf_counter() - t
+    phase["other"] = total - sum(phase.values())
+    # a kernel's library is named after its function's qualified name
+    kernels = {name: [own[name], llvm.get(name, 0.0), stmts.get(name)] for name in own}
+    print(json.dumps({"total": total, "phases": dict(phase), "kernels": kernels}))
+
+
+def _print_round(graph, r, out, top):
+    print(f"\n{graph}, round {r}: cold first simulate {out['total']:.2f} s (collector off)")
+    for key, label in PHASES:
+        print(f"  {label:44} {out['phases'].get(key, 0.0):6.2f} s")
+    head = "kernel (compile time without its callees)"
+    print(f"  {head:44} {'own s':>6} {'LLVM s':>7} {'stmts':>6}")
+    rows = sorted(out["kernels"].items(), key=lambda kv: -kv[1][0])
+    for name, (own_s, llvm_s, n) in rows[:top]:
+        print(f"  {name[-44:]:44} {own_s:6.2f} {llvm_s:7.2f} {n if n else '-':>6}")
+    rest = rows[top:]
+    if rest:
+        print(f"  {f'{len(rest)} more kernels':44} {sum(v[0] for _, v in rest):6.2f}")
+    print(f"  {'IR statements lowered, all kernels':44} {sum(v[2] or 0 for _, v in rows):>21}")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
+    ap.add_argument("graph", choices=("ring", "lattice", "exact"), help="the compile model")
+    ap.add_argument("--rounds", type=int, default=1, help="cold compiles, one per process")
+    ap.add_argument("--top", type=int, default=12, help="kernels listed (default 12)")
+    ap.add_argument("--python", default=sys.executable, help="interpreter of the child process")
+    ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.child:
+        _child(args.graph)
+        return
+    for r in range(1, args.rounds + 1):
+        with tempfile.TemporaryDirectory() as cache:
+            env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+            cmd = [args.python, os.path.abspath(__file__), args.graph, "--child"]
+            lines = subprocess.check_output(cmd, env=env).decode()
+        _print_round(args.graph, r, json.loads(lines.strip().splitlines()[-1]), args.top)
+
+
+if __name__ == "__main__":
+    main()
