@@ -5,7 +5,9 @@ no allocation happens inside them) and releases the GIL.  Only the entry
 kernels (:mod:`faultnet._kernels.events`, :mod:`faultnet._kernels.tree`) are
 called from Python; the others are built without the Python and C wrappers
 (``no_cpython_wrapper``), which saves compile time, and so can be called from
-compiled code only (from Python they would crash).
+compiled code only (from Python they would crash).  All of them are cached on disk under
+one stamp of the kernels' sources together (:mod:`faultnet._kernels.cache`), so that a change
+to any kernel recompiles the kernels that contain it.
 
 Which helpers are inlined by Numba (:data:`inline_kernel`) and which are kernels of their
 own (:data:`kernel`) is a trade between compile time and speed, measured on the cold
@@ -34,7 +36,12 @@ lattice run 7 fewer compiled kernels, bit-identical catalogs.
 
 import numba as nb
 
+from faultnet._kernels.cache import register
+
 __all__ = ["INNER", "entry", "inline_kernel", "kernel"]
+
+# one cache stamp for all kernels (faultnet._kernels.cache), before any kernel is decorated
+register()
 
 #: options of the kernels called from compiled code only
 INNER = {"nogil": True, "_nrt": False, "no_cpython_wrapper": True, "no_cfunc_wrapper": True}
