@@ -8,12 +8,12 @@ of ``events.py`` with the old step inside, and runs would silently use it.  Here
 every kernel in this package is the SHA-256 of all its ``.py`` sources, so that a change to
 any kernel recompiles them all, and a reinstall of the same sources recompiles none.
 
-The stamp comes from a cache locator (Numba's ``CacheLocator``, the same mechanism as its
-``NUMBA_CACHE_LOCATOR_CLASSES`` setting) put first in Numba's list of locators.  It answers
-only for files in the registered directories and otherwise leaves the choice to Numba's own
-locators, so other code's caches are untouched; where it answers, the cache directory and
-file names are those Numba's locator would have chosen.  Where Numba's caching module lacks
-these names, :func:`register` warns and the kernels keep Numba's per-file stamp.
+The stamp comes from a cache locator (a subclass of Numba's locator class, the mechanism its
+``NUMBA_CACHE_LOCATOR_CLASSES`` setting also uses) put first in Numba's list of locators.  It
+answers only for files in the registered directories and otherwise leaves the choice to
+Numba's own locators, so other code's caches are untouched; where it answers, the cache
+directory and file names are those Numba's locator would have chosen.  Where Numba's caching
+module lacks these names, :func:`register` warns and the kernels keep Numba's per-file stamp.
 """
 
 import functools
