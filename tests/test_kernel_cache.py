@@ -95,3 +95,13 @@ def test_register_warns_where_numba_has_no_locator_list(monkeypatch, tmp_path):
     with pytest.warns(RuntimeWarning, match="delete the kernels' Numba cache"):
         assert cache.register(tmp_path) is False
     assert str(tmp_path) not in cache.SourcesLocator.directories
+
+
+def test_unreadable_sources_leave_the_choice_to_numba(tmp_path):
+    """A registered directory that cannot be listed (a zipped install) gets Numba's locators."""
+    missing = tmp_path / "pkg.zip" / "kernels"
+    cache.SourcesLocator.directories.add(str(missing))
+    try:
+        assert cache.SourcesLocator.from_function(len, str(missing / "mod.py")) is None
+    finally:
+        cache.SourcesLocator.directories.discard(str(missing))

@@ -75,11 +75,15 @@ class SourcesLocator(_LOCATOR_BASE):
         directory = os.path.dirname(os.path.abspath(py_file))
         if directory not in cls.directories:
             return None
+        try:
+            stamp = _stamp(directory)
+        except OSError:  # sources not in a readable directory (a zipped install)
+            return None
         for other in _IMPL._locator_classes:
             if other is not cls:
                 inner = other.from_function(py_func, py_file)
                 if inner is not None:
-                    return cls(inner, _stamp(directory))
+                    return cls(inner, stamp)
         return None
 
 
