@@ -17,9 +17,11 @@ for this measurement only, and prints:
   its library (module passes and machine code, over its own code and every kernel linked
   into it) and its number of Numba IR statements.
 
-The interpreter is ``--python`` (default: this one).  A fresh virtual environment with the
-README's install measures what a user gets: a globally installed colorama, for instance, adds
-about 0.8 s to Numba's formatting of rejected typing candidates.  Run by hand; never a test.
+The faultnet measured is this checkout's (its root goes first on the child's path), whatever
+the interpreter has installed.  The interpreter is ``--python`` (default: this one).  A fresh
+virtual environment with the README's install measures what a user gets: a globally installed
+colorama, for instance, adds about 0.8 s to Numba's formatting of rejected typing candidates.
+Run by hand; never a test.
 """
 
 from __future__ import annotations
@@ -31,7 +33,9 @@ import subprocess
 import sys
 import tempfile
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+_HERE = os.path.dirname(os.path.abspath(__file__))
+# run.py's compile models, and the faultnet of this checkout (not an installed one)
+sys.path[:0] = [_HERE, os.path.dirname(_HERE)]
 
 #: the phases, in the order printed: (key, label)
 PHASES = (
