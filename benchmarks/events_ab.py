@@ -22,6 +22,10 @@ Run ``time`` once per version of the code, alternating, on the same file::
     python benchmarks/events_ab.py save W4 /tmp/big_W4.npz --min-blocks 100 --count 40
     python benchmarks/events_ab.py time /tmp/big_W4.npz --repeat 3
     PYTHONPATH=/path/to/other/checkout python benchmarks/events_ab.py time /tmp/big_W4.npz
+
+The time of a ``simulate`` call around its event (about 0.1 ms) counts too: it dominates small
+events.  Time solo slips (``save W4 /tmp/solo_W4.npz --min-blocks 1 --max-blocks 1 --count
+1000``) to subtract it.
 """
 
 from __future__ import annotations
@@ -43,8 +47,8 @@ def _model(wid):
     return faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=WORKLOADS[wid][1])
 
 
-def save(wid, path, min_blocks, count, events, transient_t):
-    """Keep the pre-event states of the first ``count`` events of >= ``min_blocks`` blocks."""
+def save(wid, path, min_blocks, count, events, transient_t, max_blocks=None):
+    """Keep the pre-event states of the first ``count`` events of min_blocks..max_blocks blocks."""
     import faultnet
 
     model = _model(wid)
@@ -52,9 +56,10 @@ def save(wid, path, min_blocks, count, events, transient_t):
     print(f"{wid}: transient of {n_trans} events to plate time {t_end:.2f} ({wall:.0f} s)")
     run = faultnet.simulate(model, events, x0=start, progress=False, record_slips=False)
     n_blocks = run.events.n_blocks.to_numpy()
-    picked = np.flatnonzero(n_blocks >= min_blocks)[:count]
+    top = n_blocks.max() if max_blocks is None else max_blocks
+    picked = np.flatnonzero((n_blocks >= min_blocks) & (n_blocks <= top))[:count]
     if picked.size == 0:
-        raise SystemExit(f"no event of >= {min_blocks} blocks in {events}; lower --min-blocks")
+        raise SystemExit(f"no event of {min_blocks}-{top} blocks in {events}; widen the range")
     xs, ws, state, done = [], [], start, 0
     for e in picked:
         if e > done:  # the same trajectory, continued up to event e
@@ -115,15 +120,17 @@ def time_events(path, repeat, local_from=None, rtol=None):
         "rtol": options.rtol,
         "local_regions_from": options.regions_from(model),
         "loop_s": loop,
-        "ns_per_block_step": 1e9 * loop / work["block_steps"],
+        "us_per_event": 1e6 * loop / len(states),
+        "ns_per_block_step": 1e9 * loop / work["block_steps"] if work["block_steps"] else None,
         **work,
         "same_sizes": bool(np.array_equal(sizes, d["n_blocks"])),
         "max_rel_dS": float(np.max(np.abs(np.array(slips) / d["S"] - 1.0))),
     }
     print(
         f"{wid} {row['code']} (rtol {row['rtol']:g}, regions from {row['local_regions_from']:g}): "
-        f"{row['events']} events {loop:.3f} s, "
-        f"{work['block_steps']:,} block-steps ({row['ns_per_block_step']:.1f} ns each), "
+        f"{row['events']} events {loop:.3f} s ({row['us_per_event']:.1f} µs each), "
+        f"{work['block_steps']:,} block-steps"
+        + (f" ({row['ns_per_block_step']:.1f} ns each), " if work["block_steps"] else ", ")
         + ", ".join(f"{k} {work[k]:,}" for k in COUNTERS)
         + f"; sizes as saved: {row['same_sizes']}, largest |S/S_saved - 1| {row['max_rel_dS']:.1e}"
     )
@@ -137,6 +144,7 @@ def main(argv=None):
     sv.add_argument("workload", choices=sorted(WORKLOADS))
     sv.add_argument("path", help=".npz file to write")
     sv.add_argument("--min-blocks", type=int, default=100)
+    sv.add_argument("--max-blocks", type=int, help="largest size kept (default: any)")
     sv.add_argument("--count", type=int, default=40)
     sv.add_argument("--events", type=int, default=20_000, help="events searched")
     sv.add_argument("--transient-t", type=float, default=2.0)
@@ -154,8 +162,18 @@ def main(argv=None):
     if args.cmd == "save":
         if args.min_blocks < 1 or args.count < 1 or args.events < 1:
             ap.error("--min-blocks, --count and --events must be >= 1")
+        if args.max_blocks is not None and args.max_blocks < args.min_blocks:
+            ap.error("--max-blocks must be >= --min-blocks")
         tic = time.perf_counter()
-        save(args.workload, args.path, args.min_blocks, args.count, args.events, args.transient_t)
+        save(
+            args.workload,
+            args.path,
+            args.min_blocks,
+            args.count,
+            args.events,
+            args.transient_t,
+            args.max_blocks,
+        )
         print(f"{time.perf_counter() - tic:.0f} s")
         return
     if args.repeat < 1:
