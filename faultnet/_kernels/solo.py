@@ -85,11 +85,13 @@ def solo_start(i, graph, work):
 def solo_end(i, saved, work):
     """The solo slip of block i; restores the counters and leaves the work arrays as found."""
     W, IW, cnt = work.W, work.IW, work.cnt
-    cnt[CNT_BLOCK_STEPS] = saved[0]
-    cnt[CNT_PARTIAL_BLOCK_STEPS] = saved[1]
-    cnt[CNT_RELOCATIONS] = saved[2]
-    cnt[CNT_LANDED_JOINS] = saved[3]
-    cnt[CNT_INTERPOLATED_CROSSINGS] = saved[4]
+    (
+        cnt[CNT_BLOCK_STEPS],
+        cnt[CNT_PARTIAL_BLOCK_STEPS],
+        cnt[CNT_RELOCATIONS],
+        cnt[CNT_LANDED_JOINS],
+        cnt[CNT_INTERPOLATED_CROSSINGS],
+    ) = saved
     s = W[i, D]
     W[i, D] = 0.0
     W[i, P] = 0.0
