@@ -75,14 +75,13 @@ def test_stamp_follows_contents_not_file_times(tmp_path):
     assert cache.sources_stamp(tmp_path) != first
 
 
-def test_every_kernel_is_cached_under_the_shared_stamp():
-    from faultnet._kernels import dopri, events, tree
+def test_every_entry_kernel_is_cached_under_the_shared_stamp():
+    from faultnet._kernels import events, tree
 
     stamp = cache.sources_stamp(cache.KERNELS_DIR)
     for dispatcher in (
         events.run_events_dopri5_interpolated,
         events.run_events_rk4,
-        dopri.dopri_step,
         tree.build_keys_and_tree,
     ):
         locator = dispatcher._cache._impl.locator

@@ -5,9 +5,12 @@ no allocation happens inside them) and releases the GIL.  Only the entry
 kernels (:mod:`faultnet._kernels.events`, :mod:`faultnet._kernels.tree`) are
 called from Python; the others are built without the Python and C wrappers
 (``no_cpython_wrapper``), which saves compile time, and so can be called from
-compiled code only (from Python they would crash).  All of them are cached on disk under
-one stamp of the kernels' sources together (:mod:`faultnet._kernels.cache`), so that a change
-to any kernel recompiles the kernels that contain it.
+compiled code only (from Python they would crash).  Their LLVM IR is linked into the
+entries' code and has no machine code of its own (:mod:`faultnet._kernels.linking`): LLVM
+optimises and emits each piece of code once, in the entry that runs it.  The entries are
+cached on disk under one stamp of the kernels' sources together
+(:mod:`faultnet._kernels.cache`), so that a change to any kernel recompiles the entries that
+contain it.
 
 Which helpers are inlined by Numba (:data:`inline_kernel`) and which are kernels of their
 own (:data:`kernel`) is a trade between compile time and speed, measured on the cold
@@ -21,11 +24,9 @@ compile of a lattice run (``benchmarks/run.py --compile-only``) and on events/s:
   DP5 stages' acceleration as a kernel cost 17-22% of events/s on the lattices, and
   :func:`~faultnet._kernels.integrate.accel` and the landing's septic helpers as kernels 6%
   of the exact treatment's on W4;
-- a helper with one call site is typed once either way.  Inlined, it has no library of its
-  own, whose linked-in callees LLVM would optimise and emit once more, but its caller grows:
-  the event's integration (:mod:`faultnet._kernels.slip`) inlined into the event loop saves
-  1.6-1.9 s of a lattice's cold compile, ``interpolated_crossings`` inlined into the
-  integration saved none.
+- a helper with one call site is typed once either way; inlined by Numba, its IR is copied
+  and its caller grows (the event's integration, :mod:`faultnet._kernels.slip`, is inlined
+  into the event loop; ``interpolated_crossings`` is a kernel).
 
 A kernel compiles once per signature, and Numba types a Python ``int`` or ``bool`` constant
 argument as a literal, one signature per value.  So the constants that kernels pass to one
@@ -37,6 +38,7 @@ lattice run 7 fewer compiled kernels, bit-identical catalogs.
 import numba as nb
 
 from faultnet._kernels.cache import register
+from faultnet._kernels.linking import PIPELINE
 
 __all__ = ["INNER", "entry", "inline_kernel", "kernel"]
 
@@ -46,8 +48,9 @@ register()
 #: options of the kernels called from compiled code only
 INNER = {"nogil": True, "_nrt": False, "no_cpython_wrapper": True, "no_cfunc_wrapper": True}
 
-#: a kernel called from other kernels
-kernel = nb.njit(cache=True, **INNER)
+#: a kernel called from other kernels: its LLVM IR is linked into the entries' code
+#: (:mod:`faultnet._kernels.linking`), so it has no machine code of its own to cache
+kernel = nb.njit(pipeline_class=PIPELINE, **INNER) if PIPELINE else nb.njit(cache=True, **INNER)
 #: a kernel inlined into its callers (Numba IR inlining, before typing)
 inline_kernel = nb.njit(cache=True, inline="always", **INNER)
 #: a kernel called from Python
