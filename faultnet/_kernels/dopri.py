@@ -88,7 +88,7 @@ def _cache_slot(r, loc):
     return o if r < BOUNDARY_CACHE and o + 5 <= loc.shape[0] else -1
 
 
-@inline_kernel
+@kernel
 def boundary_coeffs(b, W, K, IW, loc):
     """Dense-output coefficients of boundary block b over the outer step (its outer slot).
 

@@ -137,7 +137,7 @@ def force_hot(i, pos, W, graph):
     return force(np.int64(i), pos, W, graph)  # int64: dopri_step's blocks are unsigned
 
 
-@inline_kernel
+@kernel
 def accel(i, pos, vel, W, graph):
     """Acceleration of slipping block ``i`` (columns ``pos``, ``vel`` of W; ``graph``: Graph).
 

@@ -20,10 +20,11 @@ compile of a lattice run (``benchmarks/run.py --compile-only``) and on events/s:
   many places (:func:`~faultnet._kernels.integrate.force`, the dense output of one block,
   the neighbours' answers) is a kernel: typed once, and LLVM inlines the small ones into
   their callers (catalogs bit-identical, events/s within 1%); together 2.5 s of a cold compile;
-- the hot stage loops keep Numba's inlining where LLVM does not inline the call back: the
-  DP5 stages' acceleration as a kernel cost 17-22% of events/s on the lattices, and
-  :func:`~faultnet._kernels.integrate.accel` and the landing's septic helpers as kernels 6%
-  of the exact treatment's on W4;
+- the DP5 stage passes keep Numba's inlining of their acceleration (``dopri._acc``, six
+  sites in one kernel): with it a kernel too, the lattice compiled 1.1 s faster but W1 ran
+  2-4% fewer events/s at rtol 1e-6.  :func:`~faultnet._kernels.integrate.accel`, the
+  landing's septic helpers and the dense output's coefficients are kernels: 0.3-0.6 s less
+  than inlined, events/s within 1%, catalogs bit-identical;
 - a helper with one call site is typed once either way; inlined by Numba, its IR is copied
   and its caller grows (the event's integration, :mod:`faultnet._kernels.slip`, is inlined
   into the event loop; ``interpolated_crossings`` is a kernel).

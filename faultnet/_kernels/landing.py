@@ -71,7 +71,7 @@ _S0 = KV + 3
 _S1 = KV + 4
 
 
-@inline_kernel
+@kernel
 def septic_coeffs(y0, d0, s0, t0, y1, d1, s1, t1):
     """Power-basis coefficients of the degree-7 Hermite interpolant on [0, 1].
 
@@ -96,7 +96,7 @@ def septic_coeffs(y0, d0, s0, t0, y1, d1, s1, t1):
     )
 
 
-@inline_kernel
+@kernel
 def _eval7(t, c0, c1, c2, c3, c4, c5, c6, c7):
     return c0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * (c5 + t * (c6 + t * c7))))))
 

@@ -38,7 +38,7 @@ _D6 = -1453857185.0 / 822651844.0
 _D7 = 69997945.0 / 29380423.0
 
 
-@inline_kernel
+@kernel
 def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
     """Power-basis coefficients (c0..c4) of the DP5 dense output y(theta), theta in [0, 1].
 
