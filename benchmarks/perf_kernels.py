@@ -1,11 +1,16 @@
 """Where a workload's time goes, kernel by kernel: Linux ``perf`` with the kernels' symbols.
 
-Numba's compiled code has no symbols that ``perf`` can see.  This script runs a workload under
-``perf record`` in a child process that compiles the kernels into a fresh Numba cache (so each
-kernel's object code is at hand), writes ``/tmp/perf-PID.map`` (address, size and name of every
-function of every compiled kernel, read with ``nm``), then simulates; the parent prints each
-kernel's share of the samples taken in compiled code.  Kernels inlined into another
-(``inline="always"``) count as their caller.
+Numba's compiled code has no symbols that ``perf`` can see.  The child compiles every kernel
+through Numba's own pipeline, not the link-only one the kernels use
+(:mod:`faultnet._kernels.linking`), so that each kernel keeps a function of its own: with
+link-only kernels LLVM inlines nearly all of them into the entry, and its samples would carry
+no kernel's name.  The shares are those of that build, which runs 7-10% slower.
+
+This script runs a workload under ``perf record`` in a child process that compiles the kernels
+into a fresh Numba cache (so each kernel's object code is at hand), writes
+``/tmp/perf-PID.map`` (address, size and name of every function of every compiled kernel, read
+with ``nm``), then simulates; the parent prints each kernel's share of the samples taken in
+compiled code.  Kernels inlined into another (``inline="always"``) count as their caller.
 
     python benchmarks/perf_kernels.py W4 --rtol 2e-5 --events 300000
     python benchmarks/perf_kernels.py L1024 --events 60000        # a tiled 1024^2 lattice
@@ -100,6 +105,11 @@ def write_perf_map():
 def _child(wid, rtol, events, crossings):
     here = os.path.dirname(os.path.abspath(__file__))
     sys.path[:0] = [here, os.path.dirname(here)]  # run.py, and this checkout's faultnet
+    # Numba's own pipeline for every kernel, so that each keeps a function of its own: the
+    # link-only kernels (faultnet._kernels.linking) end up almost all inlined into the entry
+    import faultnet._kernels.linking as linking
+
+    linking.PIPELINE = None
     from run import SIGMA, WORKLOADS, K, _tiled_state, _warm_state, build_graph
 
     import faultnet

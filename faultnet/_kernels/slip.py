@@ -3,10 +3,8 @@
 Three integrations, one per treatment of the stops and joins ("crossings").  They take the
 same arguments and return ``(status, duration, steps, ntouch)``; the entry kernels
 (:mod:`faultnet._kernels.events`) receive one of them as an argument, so a run compiles only
-the treatment it uses.  Numba inlines the integration at its one call site in the event loop:
-as a kernel of its own, its library (the step, the crossings and the late joins linked in)
-was optimised and emitted by LLVM once more than the entry's, 1.6-1.9 s of a cold compile on
-a lattice that only the entry's copy runs.
+the treatment it uses.  Numba inlines the integration at its one call site in the event loop
+(a block class's first solo slip runs through the same call as the events).
 
 - :func:`integrate_exact`: every crossing is reached by the scheme itself, by a partial step
   or (a DP5 join) a landing on the step's interpolant, and polished to round-off
