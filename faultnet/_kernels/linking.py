@@ -33,7 +33,6 @@ __all__ = ["PIPELINE", "LinkOnlyLibrary", "LinkedCompiler"]
 try:
     from numba import _dynfunc
     from numba.core.compiler import CompilerBase, DefaultPassBuilder
-    from numba.core.compiler_lock import require_global_compiler_lock
     from numba.core.compiler_machinery import register_pass
     from numba.core.typed_passes import NativeLowering
 except ImportError:  # pragma: no cover - another Numba's layout
@@ -43,20 +42,15 @@ except ImportError:  # pragma: no cover - another Numba's layout
 class LinkOnlyLibrary(codegen.JITCodeLibrary):
     """A kernel's code library that is only ever linked into its callers' libraries.
 
-    :meth:`finalize` (which Numba calls when a caller links this library in) links in the
-    libraries of the kernels this one calls, as Numba's own libraries do, and stops there: no
-    module optimisation and no machine code.
+    Numba's ``finalize`` (called when a caller links this library in) links in the libraries
+    of the kernels this one calls, then optimises the module and emits machine code; here
+    those last two steps do nothing: the caller's library optimises and emits the code.
     """
 
-    def finalize(self):
-        require_global_compiler_lock()
-        self._raise_if_finalized()
-        seen = set()
-        for library in self._linking_libraries:
-            if library not in seen:
-                seen.add(library)
-                self._reload_init.update(library._reload_init)
-                self._final_module.link_in(library._get_module_for_linking(), preserve=True)
+    def _optimize_final_module(self):
+        pass
+
+    def _finalize_final_module(self):
         self._finalized = True
 
 
