@@ -38,6 +38,7 @@ lattice run 7 fewer compiled kernels, bit-identical catalogs.
 
 import numba as nb
 
+from faultnet._kernels import compiler
 from faultnet._kernels.cache import register
 from faultnet._kernels.linking import PIPELINE
 
@@ -54,5 +55,10 @@ INNER = {"nogil": True, "_nrt": False, "no_cpython_wrapper": True, "no_cfunc_wra
 kernel = nb.njit(pipeline_class=PIPELINE, **INNER) if PIPELINE else nb.njit(cache=True, **INNER)
 #: a kernel inlined into its callers (Numba IR inlining, before typing)
 inline_kernel = nb.njit(cache=True, inline="always", **INNER)
-#: a kernel called from Python
-entry = nb.njit(cache=True, nogil=True, _nrt=False)
+#: a kernel called from Python, compiled by :mod:`faultnet._kernels.compiler`
+entry = nb.njit(
+    cache=True,
+    nogil=True,
+    _nrt=False,
+    **({"pipeline_class": compiler.PIPELINE} if compiler.PIPELINE else {}),
+)

@@ -22,21 +22,24 @@ later process than the first (the exact treatment after a lattice run's interpol
 types and lowers the kernels it shares with the cached entries again, where Numba's pipeline
 would have loaded them from the cache (12.9 s against 8.5-11.8 s for the exact ring then).
 
-Where this Numba lacks the names used here, :data:`PIPELINE` is None and the kernels compile
+Where this Numba lacks the names used here (or those of :mod:`faultnet._kernels.compiler`),
+:data:`PIPELINE` is None and the kernels compile
 through Numba's own pipeline.
 """
 
 from numba.core import codegen
 
+from faultnet._kernels.compiler import KernelCompiler
+
 __all__ = ["PIPELINE", "LinkOnlyLibrary", "LinkedCompiler"]
 
 try:
     from numba import _dynfunc
-    from numba.core.compiler import CompilerBase, DefaultPassBuilder
+    from numba.core.compiler import DefaultPassBuilder
     from numba.core.compiler_machinery import register_pass
     from numba.core.typed_passes import NativeLowering
 except ImportError:  # pragma: no cover - another Numba's layout
-    CompilerBase = None
+    KernelCompiler = None
 
 
 class LinkOnlyLibrary(codegen.JITCodeLibrary):
@@ -54,7 +57,7 @@ class LinkOnlyLibrary(codegen.JITCodeLibrary):
         self._finalized = True
 
 
-if CompilerBase is not None:
+if KernelCompiler is not None:
 
     @register_pass(mutates_CFG=True, analysis_only=False)
     class LinkOnlyLowering(NativeLowering):
@@ -87,8 +90,9 @@ if CompilerBase is not None:
             state["cr"] = lowered._replace(cfunc=cfunc)
             return True
 
-    class LinkedCompiler(CompilerBase):
-        """Numba's nopython pipeline, lowering into a :class:`LinkOnlyLibrary`."""
+    class LinkedCompiler(KernelCompiler):
+        """The kernels' compiler (:mod:`faultnet._kernels.compiler`), lowering into a
+        :class:`LinkOnlyLibrary`."""
 
         def define_pipelines(self):
             pm = DefaultPassBuilder.define_nopython_pipeline(self.state)

@@ -1,0 +1,71 @@
+"""The kernels' compiler: Numba's, with compile flags read as one dictionary."""
+
+import numba as nb
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from numba.core.compiler import Flags
+
+from faultnet._kernels import compiler, events, linking
+
+pytestmark = pytest.mark.skipif(compiler.PIPELINE is None, reason="this Numba's layout differs")
+
+#: options of every kind of value that kernels set: booleans, a string, and one left unset
+SETTINGS = {
+    "nrt": st.booleans(),
+    "release_gil": st.booleans(),
+    "no_cpython_wrapper": st.booleans(),
+    "no_compile": st.booleans(),
+    "error_model": st.sampled_from(["python", "numpy"]),
+    "inline": st.sampled_from(["never", "always"]),
+}
+
+
+def _flags(cls, values):
+    flags = cls()
+    for name, value in values.items():
+        if value is not None:
+            setattr(flags, name, value)
+    return flags
+
+
+@settings(deadline=None, max_examples=60)
+@given(
+    st.fixed_dictionaries({k: st.none() | v for k, v in SETTINGS.items()}),
+    st.fixed_dictionaries({k: st.none() | v for k, v in SETTINGS.items()}),
+)
+def test_kernel_flags_read_compare_and_hash_as_numbas(a, b):
+    numba_a, ours_a = _flags(Flags, a), _flags(compiler.KernelFlags, a)
+    numba_b, ours_b = _flags(Flags, b), _flags(compiler.KernelFlags, b)
+    assert ours_a.values() == numba_a.values()
+    assert hash(ours_a) == hash(numba_a)
+    assert (ours_a == ours_b) == (numba_a == numba_b)
+    assert (ours_a == numba_b) == (numba_a == numba_b)
+    copied = compiler.KernelFlags(numba_a)
+    assert type(copied.copy()) is compiler.KernelFlags and copied == numba_a
+    if a["nrt"] is not None:
+        assert ours_a.nrt == a["nrt"]
+
+
+def test_kernel_compiler_compiles_under_kernel_flags(monkeypatch):
+    seen = []
+    original = compiler.KernelCompiler._compile_core
+
+    def spy(self):
+        seen.append(type(self.state.flags))
+        return original(self)
+
+    monkeypatch.setattr(compiler.KernelCompiler, "_compile_core", spy)
+
+    @nb.njit(pipeline_class=compiler.PIPELINE)
+    def plus(x, y):
+        return x + y * 2.0
+
+    assert plus(1.0, 2.5) == 6.0
+    assert seen == [compiler.KernelFlags]
+
+
+def test_faultnet_kernels_use_the_kernel_compiler():
+    assert events.run_events_dopri5_interpolated._compiler.pipeline_class is compiler.PIPELINE
+    if linking.PIPELINE is not None:
+        assert issubclass(linking.PIPELINE, compiler.KernelCompiler)
