@@ -69,3 +69,47 @@ def test_faultnet_kernels_use_the_kernel_compiler():
     assert events.run_events_dopri5_interpolated._compiler.pipeline_class is compiler.PIPELINE
     if linking.PIPELINE is not None:
         assert issubclass(linking.PIPELINE, compiler.KernelCompiler)
+
+
+def test_kernel_compiler_leaves_out_the_unused_passes():
+    @nb.njit(pipeline_class=compiler.PIPELINE)
+    def twice(x):
+        return 2.0 * x
+
+    assert twice(3.0) == 6.0
+    (cres,) = twice.overloads.values()
+    ran = " ".join(cres.metadata["pipeline_times"]["nopython"])
+    assert "nopython_type_inference" in ran and "native_lowering" in ran
+    for unused in compiler.UNUSED_PASSES:
+        assert f"_{unused._name}" not in ran
+
+
+def test_a_closure_fails_to_compile_instead_of_compiling_differently():
+    def with_closure(x):
+        def add(y):
+            return x + y
+
+        return add(1.0)
+
+    assert nb.njit(with_closure)(2.0) == 3.0  # Numba's own pipeline inlines the closure
+    with pytest.raises(nb.core.errors.NumbaError):
+        nb.njit(pipeline_class=compiler.PIPELINE)(with_closure)(2.0)
+
+
+def test_forced_kernels_are_marked_for_llvm_to_inline():
+    from faultnet._kernels import dopri, jit
+
+    forced = jit.forced_kernel(lambda x: x * 3.0)
+    plain = jit.kernel(lambda x: x * 5.0)
+
+    @nb.njit
+    def outer(x):
+        return forced(x) + plain(x)
+
+    assert outer(1.0) == 8.0
+    (f,) = forced.overloads.values()
+    (p,) = plain.overloads.values()
+    assert "alwaysinline" in f.library.get_llvm_str()
+    assert "alwaysinline" not in p.library.get_llvm_str()
+    assert dopri._acc.targetoptions["forceinline"] is True
+    assert dopri.dopri_step.targetoptions["forceinline"] is False

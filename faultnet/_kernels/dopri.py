@@ -38,7 +38,7 @@ from faultnet._kernels.integrate import (
     force_hot,
     new_id,
 )
-from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.jit import forced_kernel, inline_kernel, kernel
 from faultnet._kernels.tableau import (
     _A21,
     _A31,
@@ -136,7 +136,7 @@ def boundary_at(th, W, K, IW, loc):
     boundary_positions(P2, th, W, K, IW, loc)
 
 
-@inline_kernel
+@forced_kernel
 def _acc(i, pos, v, W, graph):
     """Acceleration of block i at stage positions ``pos`` and stage velocity ``v``."""
     den = 1.0 + graph.cfr[i] * v

@@ -13,21 +13,27 @@ cached on disk under one stamp of the kernels' sources together
 contain it.
 
 Which helpers are inlined by Numba (:data:`inline_kernel`) and which are kernels of their
-own (:data:`kernel`) is a trade between compile time and speed, measured on the cold
-compile of a lattice run (``benchmarks/run.py --compile-only``) and on events/s:
+own (:data:`kernel`, :data:`forced_kernel`) is a trade between compile time and speed,
+measured on the cold compile of a lattice run (``benchmarks/run.py --compile-only``) and
+on events/s:
 
 - Numba types an inlined helper again at each call site, so a small helper called from
   many places (:func:`~faultnet._kernels.integrate.force`, the dense output of one block,
   the neighbours' answers) is a kernel: typed once, and LLVM inlines the small ones into
-  their callers (catalogs bit-identical, events/s within 1%); together 2.5 s of a cold compile;
-- the DP5 stage passes keep Numba's inlining of their acceleration (``dopri._acc``, six
-  sites in one kernel): with it a kernel too, the lattice compiled 1.1 s faster but W1 ran
-  2-4% fewer events/s at rtol 1e-6.  :func:`~faultnet._kernels.integrate.accel`, the
-  landing's septic helpers and the dense output's coefficients are kernels: 0.3-0.6 s less
-  than inlined, events/s within 1%, catalogs bit-identical;
+  their callers (catalogs bit-identical, events/s within 1%); together 2.5 s of a cold
+  compile.  :func:`~faultnet._kernels.integrate.accel`, the landing's septic helpers and
+  the dense output's coefficients are kernels: 0.3-0.6 s less than inlined, events/s
+  within 1%, catalogs bit-identical;
+- the DP5 stages' acceleration (``dopri._acc``, six sites in one kernel) is a
+  :data:`forced_kernel`: typed once, and marked for LLVM to inline at every site, which
+  gives the code of Numba's inlining (catalogs bit-identical, events/s within 2%) for
+  0.6-0.9 s less of a cold compile; as a plain kernel, W1 ran 2-4% fewer events/s;
 - a helper with one call site is typed once either way; inlined by Numba, its IR is copied
   and its caller grows (the event's integration, :mod:`faultnet._kernels.slip`, is inlined
-  into the event loop; ``interpolated_crossings`` is a kernel).
+  into the event loop; ``interpolated_crossings`` is a kernel).  Every inlined helper as a
+  forced kernel compiled 2-3 s slower: the event loop ``events._run_events`` alone 1.5 s
+  (it takes the integration as an argument); the crossing scan
+  ``crossing.block_crossings``, inlined at two sites, made no difference.
 
 A kernel compiles once per signature, and Numba types a Python ``int`` or ``bool`` constant
 argument as a literal, one signature per value.  So the constants that kernels pass to one
@@ -42,17 +48,30 @@ from faultnet._kernels import compiler
 from faultnet._kernels.cache import register
 from faultnet._kernels.linking import PIPELINE
 
-__all__ = ["INNER", "entry", "inline_kernel", "kernel"]
+__all__ = ["INNER", "entry", "forced_kernel", "inline_kernel", "kernel"]
 
 # one cache stamp for all kernels (faultnet._kernels.cache), before any kernel is decorated
 register()
 
 #: options of the kernels called from compiled code only
-INNER = {"nogil": True, "_nrt": False, "no_cpython_wrapper": True, "no_cfunc_wrapper": True}
+#: (``forceinline`` is set so that a kernel's flags never depend on the caller it is first
+#: compiled for: Numba's kernels inherit an unset ``forceinline`` from that caller)
+INNER = {
+    "nogil": True,
+    "_nrt": False,
+    "no_cpython_wrapper": True,
+    "no_cfunc_wrapper": True,
+    "forceinline": False,
+}
+_FORCED = dict(INNER, forceinline=True)
 
 #: a kernel called from other kernels: its LLVM IR is linked into the entries' code
 #: (:mod:`faultnet._kernels.linking`), so it has no machine code of its own to cache
 kernel = nb.njit(pipeline_class=PIPELINE, **INNER) if PIPELINE else nb.njit(cache=True, **INNER)
+#: a kernel that LLVM always inlines where it is called (typed once, unlike an inline_kernel)
+forced_kernel = (
+    nb.njit(pipeline_class=PIPELINE, **_FORCED) if PIPELINE else nb.njit(cache=True, **_FORCED)
+)
 #: a kernel inlined into its callers (Numba IR inlining, before typing)
 inline_kernel = nb.njit(cache=True, inline="always", **INNER)
 #: a kernel called from Python, compiled by :mod:`faultnet._kernels.compiler`

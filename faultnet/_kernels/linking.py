@@ -35,7 +35,6 @@ __all__ = ["PIPELINE", "LinkOnlyLibrary", "LinkedCompiler"]
 
 try:
     from numba import _dynfunc
-    from numba.core.compiler import DefaultPassBuilder
     from numba.core.compiler_machinery import register_pass
     from numba.core.typed_passes import NativeLowering
 except ImportError:  # pragma: no cover - another Numba's layout
@@ -95,7 +94,7 @@ if KernelCompiler is not None:
         :class:`LinkOnlyLibrary`."""
 
         def define_pipelines(self):
-            pm = DefaultPassBuilder.define_nopython_pipeline(self.state)
+            (pm,) = KernelCompiler.define_pipelines(self)
             pm.passes = [(LinkOnlyLowering if p is NativeLowering else p, d) for p, d in pm.passes]
             pm.finalize()
             return [pm]
