@@ -27,6 +27,7 @@ from faultnet._kernels.layout import (
     CTRL_LOCAL_FROM,
     CTRL_MAX_DURATION,
     CTRL_MAX_VELOCITY,
+    CTRL_REBUILD,
     CTRL_SIZE,
     CTRL_SOLO_CACHE,
     OUT_SIZE,
@@ -270,8 +271,7 @@ class KernelArrays:
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
         self.cls = model.block_classes
         self.solo = np.full((int(self.cls.max()) + 1, SOLO_SIZE), np.nan)
-        with collector_paused():
-            _kernels().build_keys_and_tree(self.kstate, self.graph)
+        self.ctrl[CTRL_REBUILD] = 1.0  # the entry builds the keys and tree before any event
 
     def state(self) -> State:
         """A copy of the state between events."""

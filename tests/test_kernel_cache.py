@@ -76,14 +76,10 @@ def test_stamp_follows_contents_not_file_times(tmp_path):
 
 
 def test_every_entry_kernel_is_cached_under_the_shared_stamp():
-    from faultnet._kernels import events, tree
+    from faultnet._kernels import events
 
     stamp = cache.sources_stamp(cache.KERNELS_DIR)
-    for dispatcher in (
-        events.run_events_dopri5_interpolated,
-        events.run_events_rk4,
-        tree.build_keys_and_tree,
-    ):
+    for dispatcher in (events.run_events_dopri5_interpolated, events.run_events_rk4):
         locator = dispatcher._cache._impl.locator
         assert isinstance(locator, cache.SourcesLocator)
         assert locator.get_source_stamp() == stamp

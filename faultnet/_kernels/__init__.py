@@ -19,7 +19,6 @@ _NAMES = {
     "STATUS_OK": "crossing",
     "STATUS_RUNAWAY": "crossing",
     "STATUS_SLIPS_FULL": "crossing",
-    "build_keys_and_tree": "tree",
     "empty_tree": "tree",
     "run_events_dopri5": "events",
     "run_events_dopri5_interpolated": "events",

@@ -48,6 +48,7 @@ from faultnet._kernels.layout import (
     CNT_EVENTS,
     CNT_SLIP_ROWS,
     CNT_STEPS,
+    CTRL_REBUILD,
     CTRL_SOLO_CACHE,
     OUT_BLOCKS,
     OUT_DURATION,
@@ -213,13 +214,17 @@ def _run_events(integrate, method, n_req, ev0, state, graph, ctrl, cls, solo, wo
     """Run up to ``n_req`` events with ``integrate`` (:mod:`faultnet._kernels.slip`).
 
     State: ``z`` (displacements minus the frame offset), ``scal`` (the offset and the plate
-    position relative to it, ``layout.SCAL_*``), ``keys`` and ``tree`` (consistent with z).
+    position relative to it, ``layout.SCAL_*``), ``keys`` and ``tree`` (consistent with z,
+    or rebuilt from it first where ``ctrl[CTRL_REBUILD]`` is set).
     Catalog rows: ``cat_f[e]`` and ``cat_i[e]`` (``layout.CAT_*``).
     """
     z, scal = state.z, state.scal
     cnt = work.cnt
     cat_f, cat_i, profiles, out = records.cat_f, records.cat_i, records.profiles, records.out
     n = z.shape[0]
+    if ctrl[CTRL_REBUILD] != 0.0:
+        build_keys_and_tree(state, graph)
+        ctrl[CTRL_REBUILD] = 0.0
     for e in range(n_req):
         if records.slip_val.shape[0] > 0 and cnt[CNT_SLIP_ROWS] + n > records.slip_val.shape[0]:
             return STATUS_SLIPS_FULL

@@ -1,11 +1,10 @@
 """The decorators of the kernels.
 
 Every kernel is compiled without Numba's reference counting (``_nrt=False``:
-no allocation happens inside them) and releases the GIL.  Only the entry
-kernels (:mod:`faultnet._kernels.events`, :mod:`faultnet._kernels.tree`) are
-called from Python; the others are built without the Python and C wrappers
-(``no_cpython_wrapper``), which saves compile time, and so can be called from
-compiled code only (from Python they would crash).  Their LLVM IR is linked into the
+no allocation happens inside them) and releases the GIL.  Only the entry kernels
+(:mod:`faultnet._kernels.events`) are called from Python; the others are built without the
+Python and C wrappers (``no_cpython_wrapper``), which saves compile time, and so can be
+called from compiled code only (from Python they would crash).  Their LLVM IR is linked into the
 entries' code and has no machine code of its own (:mod:`faultnet._kernels.linking`): LLVM
 optimises and emits each piece of code once, in the entry that runs it.  The entries are
 cached on disk under one stamp of the kernels' sources together

@@ -2,7 +2,7 @@
 
 The Python layer and the kernels read and write these arrays only through the names here.
 
-``ctrl`` (float64[CTRL_SIZE]): the run's numerical options.
+``ctrl`` (float64[CTRL_SIZE]): the run's numerical options, and whether the keys need a rebuild.
 ``scal`` (float64[SCAL_SIZE]): the frame offset and the plate position relative to it.
 ``cnt`` (int64[CNT_SIZE]): counters of the current call.
 ``out`` (float64[OUT_SIZE]): the last event's catalog row, as the kernel left it.
@@ -43,6 +43,7 @@ __all__ = [
     "CTRL_LOCAL_FROM",
     "CTRL_MAX_DURATION",
     "CTRL_MAX_VELOCITY",
+    "CTRL_REBUILD",
     "CTRL_SIZE",
     "CTRL_SOLO_CACHE",
     "OUT_BLOCKS",
@@ -69,7 +70,10 @@ CTRL_MAX_DURATION = 1  #: longest allowed event (time units)
 CTRL_MAX_VELOCITY = 2  #: fastest allowed block velocity
 CTRL_SOLO_CACHE = 3  #: 1.0: reuse cached solo slips; 0.0: integrate every event
 CTRL_LOCAL_FROM = 4  #: slipping blocks from which crossings are handled in local regions
-CTRL_SIZE = 5
+#: 1.0: recompute every key and the tree from ``z`` before the next event (set where the
+#: arrays are built, cleared by the kernel)
+CTRL_REBUILD = 5
+CTRL_SIZE = 6
 
 SCAL_OFFSET = 0  #: integer-valued frame offset
 SCAL_W = 1  #: plate position minus the offset

@@ -1,6 +1,6 @@
 """The inner kernels' compiler: LLVM IR linked into the entry kernels, never machine code.
 
-Only the entry kernels (:mod:`faultnet._kernels.events`, :mod:`faultnet._kernels.tree`) run.
+Only the entry kernels (:mod:`faultnet._kernels.events`) run.
 Every other kernel runs inlined into, or called from, an entry's machine code.  Numba's own
 pipeline nevertheless finishes each kernel on its own: it optimises the kernel's module (with
 the code of every kernel it calls linked in) and emits machine code for it, and then the entry

@@ -13,7 +13,7 @@ one leaf.  Ties go to the lower block index.
 
 import numpy as np
 
-from faultnet._kernels.jit import entry, kernel
+from faultnet._kernels.jit import kernel
 
 __all__ = ["block_key", "build_keys_and_tree", "tree_update"]
 
@@ -39,12 +39,15 @@ def _winner(a, b, keys):
     return a
 
 
-@entry
+@kernel
 def build_keys_and_tree(state, graph):
     """Recompute every key from ``z`` and rebuild the tree (O(N)).
 
     ``state``, ``graph``: :class:`~faultnet._kernels.bundles.State` (its ``keys`` and
-    ``tree`` are written) and ``Graph``.
+    ``tree`` are written) and ``Graph``.  The event entries call it before their first event
+    (``ctrl[CTRL_REBUILD]``) and at each re-centring of the frame.  As an entry of its own
+    (its Python wrapper, machine code and cache file) it cost a lattice run's cold compile
+    0.1-0.25 s more.
     """
     z, keys, tree = state.z, state.keys, state.tree
     n = z.shape[0]
