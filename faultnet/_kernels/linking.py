@@ -20,7 +20,8 @@ Such a kernel has no machine code of its own, so it cannot be called from Python
 cached on disk: the entries' cache holds all of its code.  The price: an entry compiled in a
 later process than the first (the exact treatment after a lattice run's interpolated one)
 types and lowers the kernels it shares with the cached entries again, where Numba's pipeline
-would have loaded them from the cache (12.9 s against 8.5-11.8 s for the exact ring then).
+would have loaded them from the cache: the exact ring after a lattice run compiles in
+9.8-9.9 s, as long as on a cold cache.
 
 Where this Numba lacks the names used here (or those of :mod:`faultnet._kernels.compiler`),
 :data:`PIPELINE` is None and the kernels compile
