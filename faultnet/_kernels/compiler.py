@@ -33,6 +33,8 @@ __all__ = ["PIPELINE", "UNUSED_PASSES", "KernelCompiler", "KernelFlags"]
 try:
     from numba.core import typed_passes, untyped_passes
     from numba.core.compiler import Compiler, DefaultPassBuilder, Flags
+
+    from faultnet._kernels.typings import kernel_typing_context
 except ImportError:  # pragma: no cover - another Numba's layout
     Compiler = None
 
@@ -65,10 +67,13 @@ if Compiler is not None:
     _HASH = hash(tuple(sorted(_DEFAULTS)))
 
     class KernelCompiler(Compiler):
-        """Numba's default compiler, compiling under :class:`KernelFlags`."""
+        """Numba's default compiler, compiling under :class:`KernelFlags`, without
+        :data:`UNUSED_PASSES`, and typing in a
+        :class:`~faultnet._kernels.typings.KernelTypingContext`."""
 
         def __init__(self, typingctx, targetctx, library, args, return_type, flags, locals):
             flags = KernelFlags(flags)
+            typingctx = kernel_typing_context(typingctx)
             super().__init__(typingctx, targetctx, library, args, return_type, flags, locals)
 
         def define_pipelines(self):
