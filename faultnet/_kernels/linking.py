@@ -21,7 +21,7 @@ cached on disk: the entries' cache holds all of its code.  The price: an entry c
 later process than the first (the exact treatment after a lattice run's interpolated one)
 types and lowers the kernels it shares with the cached entries again, where Numba's pipeline
 would have loaded them from the cache: the exact ring after a lattice run compiles in
-9.8-9.9 s, as long as on a cold cache.
+9.0 s, as long as on a cold cache.
 
 Where this Numba lacks the names used here (or those of :mod:`faultnet._kernels.compiler`),
 :data:`PIPELINE` is None and the kernels compile
