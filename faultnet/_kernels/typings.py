@@ -17,6 +17,10 @@ dimensions; a literal constant's type holds its value), and the first typing has
 its implementation with the function type, as Numba does, for the lowering.  The code
 generated is the same (catalogs bit-identical).
 
+The memory lasts for the process and assumes that the templates registered for these
+operators on plain types do not change after a first typing: an extension imported later
+that registered one would change Numba's own answer, and not the remembered one.
+
 :func:`kernel_typing_context` gives the one instance for a Numba typing context.
 """
 
