@@ -62,15 +62,20 @@ INNER = {
     "no_cfunc_wrapper": True,
     "forceinline": False,
 }
-_FORCED = dict(INNER, forceinline=True)
+
+
+def _linked(options):
+    """The decorator of link-only kernels (Numba's own, cached, where PIPELINE is None)."""
+    if PIPELINE:
+        return nb.njit(pipeline_class=PIPELINE, **options)
+    return nb.njit(cache=True, **options)
+
 
 #: a kernel called from other kernels: its LLVM IR is linked into the entries' code
 #: (:mod:`faultnet._kernels.linking`), so it has no machine code of its own to cache
-kernel = nb.njit(pipeline_class=PIPELINE, **INNER) if PIPELINE else nb.njit(cache=True, **INNER)
+kernel = _linked(INNER)
 #: a kernel that LLVM always inlines where it is called (typed once, unlike an inline_kernel)
-forced_kernel = (
-    nb.njit(pipeline_class=PIPELINE, **_FORCED) if PIPELINE else nb.njit(cache=True, **_FORCED)
-)
+forced_kernel = _linked(dict(INNER, forceinline=True))
 #: a kernel inlined into its callers (Numba IR inlining, before typing)
 inline_kernel = nb.njit(cache=True, inline="always", **INNER)
 #: a kernel called from Python, compiled by :mod:`faultnet._kernels.compiler`

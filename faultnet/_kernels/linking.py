@@ -24,8 +24,7 @@ would have loaded them from the cache: the exact ring after a lattice run compil
 9.0 s, as long as on a cold cache.
 
 Where this Numba lacks the names used here (or those of :mod:`faultnet._kernels.compiler`),
-:data:`PIPELINE` is None and the kernels compile
-through Numba's own pipeline.
+:data:`PIPELINE` is None and the kernels compile through Numba's own pipeline.
 """
 
 from numba.core import codegen

@@ -117,6 +117,7 @@ class KernelTypingContext(Context):
         return sig
 
 
+#: Numba's typing context -> the KernelTypingContext sharing its state
 _CONTEXTS = {}
 
 
@@ -124,10 +125,10 @@ def kernel_typing_context(typingctx):
     """The :class:`KernelTypingContext` sharing the state of Numba's ``typingctx``."""
     if type(typingctx) is not Context:  # another target's context: left as it is
         return typingctx
-    shared = _CONTEXTS.get(id(typingctx))
-    if shared is None or shared[0] is not typingctx:
+    ctx = _CONTEXTS.get(typingctx)
+    if ctx is None:
         ctx = KernelTypingContext.__new__(KernelTypingContext)
         ctx.__dict__ = typingctx.__dict__  # the same registries, caches and call stack
         ctx._remembered = {}
-        shared = _CONTEXTS[id(typingctx)] = (typingctx, ctx)
-    return shared[1]
+        _CONTEXTS[typingctx] = ctx
+    return ctx
