@@ -1,17 +1,17 @@
 """Exclusive locks on outputs: one writer per catalog and per sweep folder.
 
-A lock is a small JSON file created with ``O_CREAT | O_EXCL`` (atomic on
-local and network file systems) holding the holder's pid, host, process
-start time and command.  A second writer finds the file and is refused with
-:class:`~faultnet.exceptions.OutputLockedError` naming the holder.  A lock
-left by a killed process is *stale* and is taken over: on the same host when
-its pid is no longer alive, or when the pid now belongs to another process
-(its start time in ``/proc/<pid>/stat`` differs).  A lock held on another
-host cannot be checked from here; the message says which host and process
-hold it, so a user who knows it is gone can delete the file.
+A lock is an advisory ``flock`` on a small file next to the output, held for as long as the
+writer runs.  The operating system releases it when the writer's process ends in any way (a
+return, an exception, SIGKILL, the OOM killer), so a killed run never blocks its own resume:
+there is no pid to check and no stale lock to break.  A process that has been killed but not
+yet reaped (a zombie) holds no lock either.  The file also holds the writer's pid, host, start
+time and command, for the message only: a second writer is refused with
+:class:`~faultnet.exceptions.OutputLockedError` naming the holder.  On Linux, ``flock`` on a
+network file system (NFS) is carried over as a POSIX lock that other hosts see too.
 
-The lock is released when the ``with`` block ends, also on an exception or
-``KeyboardInterrupt``.
+Nothing a failed start leaves behind blocks the next run: a lock file that no process holds
+(empty, garbled, or written by a process that is gone) is simply taken.  The file is removed
+when the ``with`` block ends, also on an exception or ``KeyboardInterrupt``.
 
 >>> import tempfile, os
 >>> path = os.path.join(tempfile.mkdtemp(), "out.parquet.lock")
@@ -26,6 +26,7 @@ False
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import json
 import os
 import socket
@@ -34,163 +35,136 @@ import time
 
 from faultnet.exceptions import OutputLockedError
 
-__all__ = ["LOCK_SUFFIX", "holder_text", "is_stale", "output_lock", "read_holder"]
+__all__ = ["LOCK_SUFFIX", "alive", "holder_text", "output_lock", "read_holder"]
 
 LOCK_SUFFIX = ".lock"
-#: a break file (taking over a stale lock) older than this is itself left over
-_BREAK_STALE_S = 30.0
 
 
-def _start_ticks(pid):
-    """Start time of process ``pid`` in clock ticks after boot (None where unknown)."""
+def alive(pid) -> bool:
+    """True if process ``pid`` runs on this host (a zombie, killed but not reaped, is dead)."""
+    try:
+        os.kill(pid, 0)
+    except PermissionError:
+        pass  # another user's process: it exists
+    except (OSError, OverflowError, TypeError, ValueError):
+        return False
     try:
         with open(f"/proc/{pid}/stat", encoding="ascii", errors="replace") as fh:
             text = fh.read()
     except OSError:
-        return None
-    # the command name (field 2) may hold spaces and parentheses: split after the last ')'
-    fields = text[text.rfind(")") + 2 :].split()
-    try:
-        return int(fields[19])  # field 22 of the whole line
-    except (IndexError, ValueError):
-        return None
-
-
-def _alive(pid):
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:
-        return True
-    except OSError:
-        return False
-    return True
+        return True  # no /proc (not Linux): kill(pid, 0) is all we know
+    # the command name (field 2) may hold spaces and parentheses: the state follows the last ')'
+    return text[text.rfind(")") + 2 :][:1] not in ("Z", "X")
 
 
 def _me():
     return {
         "pid": os.getpid(),
         "host": socket.gethostname(),
-        "start_ticks": _start_ticks(os.getpid()),
         "started": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
         "command": " ".join(sys.argv) or sys.executable,
     }
 
 
-def read_holder(path) -> dict | None:
-    """The holder recorded in lock file ``path`` (None if absent; {} if unreadable)."""
+def _parse(raw):
     try:
-        with open(path, encoding="utf-8") as fh:
-            data = json.load(fh)
-    except FileNotFoundError:
-        return None
-    except (OSError, ValueError):
+        data = json.loads(raw.decode("utf-8"))
+    except (UnicodeDecodeError, ValueError):
         return {}
     return data if isinstance(data, dict) else {}
 
 
-def is_stale(holder) -> bool:
-    """True if the process that wrote ``holder`` is gone (checkable on this host only)."""
-    if not holder:
-        return False  # being written right now, or garbled: not provably stale
-    if holder.get("host") != socket.gethostname():
-        return False
-    pid = holder.get("pid")
-    if not isinstance(pid, int) or pid <= 0:
-        return False
-    if not _alive(pid):
-        return True
-    start = holder.get("start_ticks")
-    now = _start_ticks(pid)
-    return start is not None and now is not None and now != start
+def read_holder(path) -> dict | None:
+    """The holder recorded in lock file ``path`` (None if absent; {} if empty or unreadable)."""
+    try:
+        with open(path, "rb") as fh:
+            return _parse(fh.read())
+    except FileNotFoundError:
+        return None
+    except OSError:
+        return {}
 
 
 def holder_text(holder) -> str:
     """One line naming the holder of a lock."""
     if not holder:
-        return "a process that is writing it (the lock file is being written or is garbled)"
+        return "a process that is starting (its lock file is not written yet)"
     return (
         f"pid {holder.get('pid')} on {holder.get('host')} since {holder.get('started')} "
         f"({holder.get('command')})"
     )
 
 
-def _try_create(path, me):
+def _open(path):
+    """A descriptor of lock file ``path`` (created if absent); clear error if it cannot be."""
     try:
-        fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-    except FileExistsError:
-        return False
-    with os.fdopen(fd, "w", encoding="utf-8") as fh:
-        json.dump(me, fh)
-        fh.flush()
-        os.fsync(fh.fileno())
-    return True
+        return os.open(path, os.O_RDWR | os.O_CREAT | os.O_CLOEXEC, 0o644)
+    except OSError as exc:
+        raise OutputLockedError(
+            f"cannot open the lock file {path} ({exc.strerror or exc}); if it belongs to "
+            f"another user or to a run that is gone, delete it or choose another output"
+        ) from None
 
 
-def _break_stale(path, holder):
-    """Remove the stale lock ``path`` if no other process is breaking it; True if removed."""
-    brk = path + ".break"
+def _is_current(fd, path):
+    """True if ``fd`` is still the file at ``path`` (a releasing writer may have removed it)."""
     try:
-        fd = os.open(brk, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-    except FileExistsError:
-        with contextlib.suppress(OSError):
-            if time.time() - os.path.getmtime(brk) > _BREAK_STALE_S:
-                os.remove(brk)
+        here = os.stat(path)
+    except FileNotFoundError:
         return False
-    os.close(fd)
+    mine = os.fstat(fd)
+    return (here.st_dev, here.st_ino) == (mine.st_dev, mine.st_ino)
+
+
+def _write_holder(fd, path, me):
+    """Record ``me`` in the locked file; on failure (a full disk) give the lock up, clearly."""
     try:
-        if read_holder(path) == holder:  # still the same stale lock, not a fresh one
-            os.remove(path)
-            return True
-        return False
-    finally:
-        with contextlib.suppress(OSError):
-            os.remove(brk)
+        os.ftruncate(fd, 0)
+        os.pwrite(fd, json.dumps(me).encode("utf-8"), 0)
+    except OSError as exc:
+        _release(fd, path)
+        raise OutputLockedError(
+            f"cannot write the lock file {path} ({exc.strerror or exc}); free some space "
+            f"or choose another output, then run again"
+        ) from None
 
 
 def acquire(path, what=None):
-    """Create lock file ``path`` or raise :class:`OutputLockedError`; return the holder dict."""
-    me = _me()
+    """Lock ``path`` (see module doc) or raise :class:`OutputLockedError`; return its descriptor."""
     for _ in range(20):
-        if _try_create(path, me):
-            return me
-        holder = read_holder(path)
-        if holder is None:
-            continue  # released meanwhile: try again
-        if holder == {}:
-            time.sleep(0.05)  # its writer is between create and write
-            holder = read_holder(path)
-            if holder is None:
-                continue
-        if is_stale(holder):
-            _break_stale(path, holder)
-            continue
-        raise OutputLockedError(
-            f"{what or path} is being written by {holder_text(holder)}; wait for it to "
-            f"finish or stop it (if that process is gone, delete {path})"
-        )
+        fd = _open(path)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            holder = _parse(os.pread(fd, 65536, 0))
+            os.close(fd)
+            raise OutputLockedError(
+                f"{what or path} is being written by {holder_text(holder)}; wait for it to "
+                f"finish or stop it"
+            ) from None
+        if _is_current(fd, path):
+            _write_holder(fd, path, _me())
+            return fd
+        os.close(fd)  # the holder released and removed it meanwhile: take the new file
     raise OutputLockedError(f"could not take the lock {path}: other writers keep taking it")
 
 
-def release(path, me):
-    """Remove lock file ``path`` if it still is ``me``'s."""
-    holder = read_holder(path)
-    if (
-        holder is not None
-        and holder.get("pid") == me["pid"]
-        and holder.get("start_ticks") == me.get("start_ticks")
-    ):
-        with contextlib.suppress(OSError):
-            os.remove(path)
+def _release(fd, path):
+    """Remove lock file ``path`` while still holding it, then let the lock go."""
+    try:
+        if _is_current(fd, path):
+            with contextlib.suppress(OSError):
+                os.remove(path)
+    finally:
+        os.close(fd)
 
 
 @contextlib.contextmanager
 def output_lock(path, what=None):
     """Hold the exclusive lock file ``path`` for the ``with`` block (see module doc)."""
     path = os.fspath(path)
-    me = acquire(path, what)
+    fd = acquire(path, what)
     try:
-        yield me
+        yield fd
     finally:
-        release(path, me)
+        _release(fd, path)

@@ -144,12 +144,12 @@ def _init_worker(sweep_pid):
     import threading
     import time
 
-    from faultnet.lock import _alive
+    from faultnet.lock import alive
 
     parent = os.getppid()
 
     def watch():
-        while os.getppid() == parent and _alive(sweep_pid):
+        while os.getppid() == parent and alive(sweep_pid):
             time.sleep(0.2)
         os._exit(1)
 

@@ -6,6 +6,7 @@ import json
 import os
 import subprocess
 import sys
+import time
 
 import pandas as pd
 import pyarrow as pa
@@ -17,7 +18,7 @@ from faultnet.__main__ import main
 from faultnet.checkpoint import checkpoint_dir, chunk_path
 from faultnet.exceptions import CatalogError, OutputLockedError
 from faultnet.io import read_catalog
-from faultnet.lock import _me, _start_ticks, is_stale
+from faultnet.lock import _me, alive
 from faultnet.spec_run import run_from_spec
 from faultnet.sweep_summary import summarize
 
@@ -232,35 +233,85 @@ def test_second_writer_is_refused_naming_the_holder(tmp_path, capsys):
     assert not os.path.exists(str(out) + ".lock")  # released
 
 
-def test_lock_released_on_interrupt_and_stale_lock_taken_over(tmp_path, reference):
+HOLD_LOCK = """
+import sys, time
+from faultnet.lock import output_lock
+with output_lock(sys.argv[1]):
+    print("locked", flush=True)
+    time.sleep(600)
+"""
+
+
+@pytest.mark.parametrize(
+    "leftover",
+    [b"", b'{"pid": 12', b"[1, 2]", b'{"pid": 999999999999, "host": "x"}', None],
+    ids=["empty", "garbled", "list", "huge-pid", "dead-pid"],
+)
+def test_lock_released_on_interrupt_and_leftover_lock_file_taken(tmp_path, reference, leftover):
     out = tmp_path / "x.parquet"
     _interrupted(out)
     lock = str(out) + ".lock"
     assert not os.path.exists(lock)
-    # a lock left by a killed process: same host, pid gone
-    dead = subprocess.Popen([sys.executable, "-c", "pass"])
-    dead.wait()
-    holder = _me() | {"pid": dead.pid, "start_ticks": 1}
-    with open(lock, "w") as fh:
-        json.dump(holder, fh)
+    if leftover is None:  # the record of a process that is gone
+        dead = subprocess.Popen([sys.executable, "-c", "pass"])
+        dead.wait()
+        leftover = json.dumps(_me() | {"pid": dead.pid}).encode()
+    with open(lock, "wb") as fh:  # what a killed start or a full disk leaves: nobody holds it
+        fh.write(leftover)
     run_from_spec(out=out, resume=True, progress=False, **SPEC)
     pd.testing.assert_frame_equal(read_catalog(out).events, reference)
     assert not os.path.exists(lock)
 
 
-def test_live_lock_of_another_process_is_respected(tmp_path):
+def test_live_lock_is_respected_and_a_sigkilled_holder_blocks_nothing(tmp_path, reference):
     out = tmp_path / "x.parquet"
     lock = str(out) + ".lock"
-    holder = _me() | {"pid": os.getppid(), "command": "faultnet simulate other"}
-    holder["start_ticks"] = _start_ticks(os.getppid())
-    with open(lock, "w") as fh:
-        json.dump(holder, fh)
-    with pytest.raises(OutputLockedError, match=rf"pid {os.getppid()} .*faultnet simulate other"):
-        run_from_spec(out=out, progress=False, **SPEC)
-    # the same pid with another start time is a reused pid: stale
-    holder["start_ticks"] = (holder["start_ticks"] or 0) + 12345
-    with open(lock, "w") as fh:
-        json.dump(holder, fh)
-    assert is_stale(holder)
-    run_from_spec(out=out, progress=False, **SPEC)
+    holder = subprocess.Popen([sys.executable, "-c", HOLD_LOCK, lock], stdout=subprocess.PIPE)
+    try:
+        assert holder.stdout.readline() == b"locked\n"
+        with pytest.raises(OutputLockedError, match=rf"being written by pid {holder.pid} "):
+            run_from_spec(out=out, alpha=1.5, progress=False, **SPEC)
+        holder.kill()
+        # not reaped yet: a zombie, as a killed process is in a container without an init;
+        # the operating system has released its lock all the same
+        deadline = time.monotonic() + 10
+        while alive(holder.pid) and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert os.path.exists(f"/proc/{holder.pid}") and not alive(holder.pid)
+        run_from_spec(out=out, alpha=1.5, progress=False, **SPEC)
+    finally:
+        holder.kill()
+        holder.wait()
+    pd.testing.assert_frame_equal(read_catalog(out).events, reference)
     assert not os.path.exists(lock)
+
+
+def test_a_full_disk_at_the_lock_leaves_nothing_that_blocks(tmp_path, monkeypatch, capsys):
+    out = tmp_path / "x.parquet"
+
+    def full(*args):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    with monkeypatch.context() as m:
+        m.setattr(os, "pwrite", full)
+        rc = main(["simulate", "ring:30", "-n", "200", "--out", str(out)])
+        assert rc == 1
+        err = _one_line(capsys)
+        assert f"cannot write the lock file {out}.lock" in err and "No space left" in err
+    run_from_spec(out=out, progress=False, **SPEC)
+    assert len(read_catalog(out).events) == EVENTS
+
+
+def test_a_lock_file_that_cannot_be_opened_is_named(tmp_path, monkeypatch):
+    out = tmp_path / "x.parquet"
+    lock = str(out) + ".lock"
+    real_open = os.open
+
+    def refused(path, *args, **kwargs):
+        if os.fspath(path) == lock:  # another user's file in a sticky folder
+            raise PermissionError(errno.EPERM, os.strerror(errno.EPERM), path)
+        return real_open(path, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", refused)
+    with pytest.raises(OutputLockedError, match=rf"cannot open the lock file {lock} \(Operation"):
+        run_from_spec(out=out, progress=False, **SPEC)

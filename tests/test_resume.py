@@ -14,6 +14,7 @@ import faultnet
 from faultnet import _run_loop
 from faultnet.checkpoint import checkpoint_dir, checkpoint_status
 from faultnet.io import CatalogError, OutputExistsError, read_catalog
+from faultnet.lock import alive
 from faultnet.runner import simulate_to_parquet
 
 N_BLOCKS, N_EVENTS, SEED = 200, 40_000, 11
@@ -53,6 +54,7 @@ def test_sigkill_at_random_moments_then_resume(tmp_path):
     ]
     rng = random.Random(2024)
     kills = []  # events committed when each SIGKILL landed
+    killed = []
     for attempt in range(4):
         before = _committed(out)
         proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
@@ -67,14 +69,20 @@ def test_sigkill_at_random_moments_then_resume(tmp_path):
         if proc.poll() is not None:
             break  # finished before we could kill it
         proc.send_signal(signal.SIGKILL)
-        proc.wait()
-        assert proc.returncode == -signal.SIGKILL
+        # the next run starts at once, while the killed one is a zombie (not reaped yet, as
+        # in a container without an init): its lock must not block the resume
+        deadline = time.monotonic() + 10
+        while alive(proc.pid):
+            assert time.monotonic() < deadline, "SIGKILL did not end the run"
+            time.sleep(0.005)
+        killed.append(proc)
         kills.append(_committed(out))
     assert len(kills) >= 3, kills
     assert kills[-1] > 0 and kills == sorted(kills), kills  # progress survives every kill
     assert kills[-1] < N_EVENTS
     done = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert done.returncode == 0, done.stderr
+    assert [p.wait() for p in killed] == [-signal.SIGKILL] * len(killed)
     assert "resumed at event" in done.stdout or "already complete" in done.stdout
     assert not os.path.exists(checkpoint_dir(out))
     assert sorted(os.listdir(tmp_path)) == ["ring.parquet"]  # no temporary files left

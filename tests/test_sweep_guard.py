@@ -11,7 +11,7 @@ import pytest
 
 from faultnet.__main__ import main
 from faultnet.exceptions import OutputLockedError
-from faultnet.lock import _alive, read_holder
+from faultnet.lock import alive, read_holder
 from faultnet.sweep import sweep
 
 PY = [sys.executable, "-m", "faultnet"]
@@ -65,7 +65,7 @@ def _worker_pids(out, proc):
 def _all_gone(pids, timeout=10):
     t0 = time.monotonic()
     while time.monotonic() - t0 < timeout:
-        if not any(_alive(p) and not _zombie(p) for p in pids):
+        if not any(alive(p) for p in pids):
             return True
         time.sleep(0.05)
     return False
