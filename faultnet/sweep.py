@@ -27,6 +27,7 @@ from __future__ import annotations
 import concurrent.futures as cf
 import contextlib
 import os
+from concurrent.futures.process import BrokenProcessPool
 
 import numpy as np
 import pandas as pd
@@ -43,6 +44,9 @@ from faultnet.lock import output_lock
 from faultnet.sweep_config import SweepConfig, as_config, load_config
 from faultnet.sweep_folder import SWEEP_LOCK, point_file_name, point_state, prepare_out
 from faultnet.sweep_summary import failed_row, point_row, summarize, summary_table
+
+#: a point whose worker process dies this many times fails (the others are run again)
+MAX_LOSSES = 3
 
 __all__ = [
     "ConfigError",
@@ -156,10 +160,38 @@ def _init_worker(sweep_pid):
     threading.Thread(target=watch, name="faultnet-orphan-watch", daemon=True).start()
 
 
+class LocalPool:
+    """Local worker processes, replaced by a fresh pool when one of them dies.
+
+    A worker killed from outside (SIGKILL, the OOM killer) breaks a
+    :class:`~concurrent.futures.ProcessPoolExecutor`: every point it had not finished fails
+    with ``BrokenProcessPool``, also those that never started.  :func:`_run_points` runs
+    such lost points again on :meth:`renew`'s fresh pool; they resume their checkpoints.
+    """
+
+    def __init__(self, workers):
+        self.workers = workers
+        self.executor = _local_pool(workers)
+
+    def renew(self):
+        """Shut the broken pool down and start a fresh one; return it."""
+        self.executor.shutdown(wait=False, cancel_futures=True)
+        self.executor = _local_pool(self.workers)
+        return self.executor
+
+    def stop(self):
+        """Stop the workers now, as Ctrl-C on a terminal does (their writes are atomic)."""
+        for proc in list((getattr(self.executor, "_processes", None) or {}).values()):
+            with contextlib.suppress(OSError, AttributeError):
+                proc.terminate()
+        self.executor.shutdown(wait=False, cancel_futures=True)
+
+
 @contextlib.contextmanager
 def _executor(executor, scheduler, workers, n_tasks):
+    """``(executor, where, renew)``: ``renew`` gives a fresh local pool (None elsewhere)."""
     if executor is not None:
-        yield executor, "the given executor"
+        yield executor, "the given executor", None
         return
     if scheduler is not None:
         try:
@@ -170,27 +202,22 @@ def _executor(executor, scheduler, workers, n_tasks):
             ) from None
         client = Client(scheduler)
         try:
-            yield client.get_executor(pure=False), f"Dask scheduler {scheduler}"
+            yield client.get_executor(pure=False), f"Dask scheduler {scheduler}", None
         finally:
             client.close()
         return
     n = workers if workers is not None else _usable_cores()
     n = max(1, min(int(n), n_tasks))
     if n == 1:
-        yield SerialExecutor(), "this process"
+        yield SerialExecutor(), "this process", None
         return
-    pool = _local_pool(n)
+    pool = LocalPool(n)
     try:
-        yield pool, f"{n} local processes"
+        yield pool.executor, f"{n} local processes", pool.renew
     except BaseException:
-        # interrupted (Ctrl-C, SIGTERM) or failed: stop the workers now, as Ctrl-C on a
-        # terminal does (their writes are atomic; a rerun resumes their points)
-        for proc in list((getattr(pool, "_processes", None) or {}).values()):
-            with contextlib.suppress(OSError, AttributeError):
-                proc.terminate()
-        pool.shutdown(wait=False, cancel_futures=True)
+        pool.stop()  # interrupted (Ctrl-C, SIGTERM) or failed: a rerun resumes the points
         raise
-    pool.shutdown(wait=True, cancel_futures=True)
+    pool.executor.shutdown(wait=True, cancel_futures=True)
 
 
 def sweep(
@@ -265,9 +292,9 @@ def _sweep_locked(cfg, out, executor, scheduler, workers, force, progress, log):
     rows, todo = _plan(cfg, out, force, log)
     failures = []
     if todo:
-        with _executor(executor, scheduler, workers, len(todo)) as (ex, where):
+        with _executor(executor, scheduler, workers, len(todo)) as (ex, where, renew):
             log(f"running {len(todo)} points on {where}")
-            failures = _run_points(ex, cfg, todo, rows, n_points, progress, log)
+            failures = _run_points(ex, renew, cfg, todo, rows, n_points, progress, log)
     table = summary_table([rows[i] for i in sorted(rows)])
     table.attrs["out"] = out
     if failures:
@@ -308,14 +335,15 @@ def _plan(cfg, out, force, log):
     return rows, todo
 
 
-def _run_points(ex, cfg, todo, rows, n_points, progress, log):
-    """Run the ``todo`` points on ``ex``, filling ``rows``; return the ``(point, exc)`` failures."""
+def _run_points(ex, renew, cfg, todo, rows, n_points, progress, log):
+    """Run the ``todo`` points on ``ex``, filling ``rows``; return the ``(point, exc)`` failures.
+
+    Where a worker process dies (``BrokenProcessPool``) and ``renew`` gives a fresh pool, the
+    points lost with it run again there, each at most :data:`MAX_LOSSES` times in all: only a
+    point that keeps killing its worker fails, and the others run to the end.
+    """
     settings = (cfg.transient, cfg.chunk, cfg.checkpoint_interval, cfg.m_min, cfg.m_max)
-    futures = {
-        ex.submit(run_point, point, os.path.abspath(path), *settings): (point, path)
-        for point, path in todo
-    }
-    failures = []
+    failures, losses = [], {}
     with tqdm(
         total=n_points,
         initial=len(rows),
@@ -323,13 +351,34 @@ def _run_points(ex, cfg, todo, rows, n_points, progress, log):
         desc="sweep",
         disable=(None if progress is None else not progress),
     ) as bar:
-        for fut in cf.as_completed(futures):
-            point, path = futures[fut]
-            try:
-                rows[point["index"]] = fut.result()
-            except Exception as exc:  # a failed point must not stop the others
-                failures.append((point, exc))
-                rows[point["index"]] = failed_row(point, path, exc)
-                log(f"point {point['index']} failed: {type(exc).__name__}: {exc}")
-            bar.update(1)
+        while todo:
+            futures = {
+                ex.submit(run_point, point, os.path.abspath(path), *settings): (point, path)
+                for point, path in todo
+            }
+            todo = []
+            for fut in cf.as_completed(futures):
+                point, path = futures[fut]
+                try:
+                    rows[point["index"]] = fut.result()
+                except BrokenProcessPool as exc:
+                    losses[point["index"]] = losses.get(point["index"], 0) + 1
+                    if renew is not None and losses[point["index"]] < MAX_LOSSES:
+                        todo.append((point, path))
+                        continue
+                    exc = SweepError(
+                        f"a worker process died while running it, {losses[point['index']]} "
+                        f"time(s) (killed by a signal or out of memory?): {exc}"
+                    )
+                    failures.append((point, exc))
+                    rows[point["index"]] = failed_row(point, path, exc)
+                    log(f"point {point['index']} failed: {exc}")
+                except Exception as exc:  # a failed point must not stop the others
+                    failures.append((point, exc))
+                    rows[point["index"]] = failed_row(point, path, exc)
+                    log(f"point {point['index']} failed: {type(exc).__name__}: {exc}")
+                bar.update(1)
+            if todo:
+                log(f"a worker process died; running its {len(todo)} lost points on a fresh pool")
+                ex = renew()
     return failures

@@ -7,12 +7,14 @@ import subprocess
 import sys
 import time
 
+import pandas as pd
 import pytest
 
 from faultnet.__main__ import main
-from faultnet.exceptions import OutputLockedError
+from faultnet.exceptions import OutputLockedError, SweepError
+from faultnet.io import read_catalog
 from faultnet.lock import alive, read_holder
-from faultnet.sweep import sweep
+from faultnet.sweep import summarize, sweep
 
 PY = [sys.executable, "-m", "faultnet"]
 LONG = """[sweep]
@@ -120,3 +122,84 @@ def test_garbled_manifest_gives_one_line(tmp_path, capsys, text):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "Traceback" not in err
     assert "sweep.json" in err and "--force" in err
+
+
+KILLABLE = """[sweep]
+graph = "ring:100"
+alpha = [1.0, 1.5, 2.0]
+events = 60000
+replicas = 2
+seed = 3
+chunk = 1000
+checkpoint_interval = 0
+"""
+
+
+def test_a_killed_worker_fails_no_point(tmp_path):
+    """SIGKILL one pool worker (as the OOM killer would): every point still runs to the end."""
+    cfg = tmp_path / "s.toml"
+    cfg.write_text(KILLABLE)
+    out = tmp_path / "c"
+    proc = subprocess.Popen(
+        [*PY, "sweep", str(cfg), "--out", str(out), "--workers", "2", "--quiet"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        victim = min(_worker_pids(out, proc))
+        os.kill(victim, signal.SIGKILL)
+        stdout, stderr = proc.communicate(timeout=600)
+        assert proc.returncode == 0, stderr
+    finally:
+        _stop(proc)
+    table = summarize(out)
+    assert list(table["status"]) == ["done"] * 6, table
+    # the lost points resumed their checkpoints: each catalog equals a clean one
+    clean = tmp_path / "clean"
+    sweep(cfg, out=clean, workers=1, progress=False)
+    for name in sorted(os.listdir(clean)):
+        if name.startswith("part-"):
+            pd.testing.assert_frame_equal(
+                read_catalog(out / name).events, read_catalog(clean / name).events
+            )
+
+
+def test_a_point_that_keeps_killing_its_worker_fails_alone(tmp_path, monkeypatch):
+    """Lost points run again on a fresh pool; one lost MAX_LOSSES times fails, the rest run."""
+    import concurrent.futures as cf
+    from concurrent.futures.process import BrokenProcessPool
+
+    from faultnet import sweep as sweep_module
+
+    class Doomed(cf.Executor):  # point 1 always dies with its worker
+        def submit(self, fn, point, *args):
+            fut = cf.Future()
+            if point["index"] == 1:
+                fut.set_exception(BrokenProcessPool("terminated abruptly"))
+            else:
+                fut.set_result(fn(point, *args))
+            return fut
+
+    pools = []
+
+    def renew():
+        pools.append(Doomed())
+        return pools[-1]
+
+    monkeypatch.setattr(sweep_module, "_executor", lambda *a: _fixed((Doomed(), "test", renew)))
+    with pytest.raises(SweepError, match=r"1 of 3 points failed: point 1 .*worker process died"):
+        sweep(graph="ring:30", alpha=[1.0, 1.5, 2.0], events=200, seed=1, out=tmp_path / "c")
+    assert len(pools) == sweep_module.MAX_LOSSES - 1
+    assert list(summarize(tmp_path / "c")["status"]) == ["done", "missing", "done"]
+
+
+def _fixed(value):
+    import contextlib
+
+    @contextlib.contextmanager
+    def cm():
+        yield value
+
+    return cm()
