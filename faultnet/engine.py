@@ -54,18 +54,6 @@ def _kernels():
     return _kernels
 
 
-def _cache_is_cold(dispatcher):
-    """True if Numba's on-disk cache holds nothing for ``dispatcher`` (any doubt: False).
-
-    An index written by other source code (an upgraded faultnet) counts as empty: Numba's
-    index check compares the source file's stamp.
-    """
-    try:
-        return not dispatcher._cache._cache_file._load_index()
-    except Exception:  # noqa: BLE001 - a Numba internal moved (or JIT is off): not cold
-        return False
-
-
 class Simulator:
     """A running simulation of a Carlson-Langer model.
 
@@ -256,7 +244,7 @@ class Simulator:
         arr = self._arrays
         compiling = False
         if not self._checked_cache:  # reads the cache index: outside the timed loop
-            compiling = _cache_is_cold(arr.kernel)
+            compiling = _kernels().is_cold(arr.kernel)
             self._checked_cache = True
         K = _kernels()
         done = steps = block_steps = 0

@@ -100,3 +100,126 @@ def test_unreadable_sources_leave_the_choice_to_numba(tmp_path):
         assert cache.SourcesLocator.from_function(len, str(missing / "mod.py")) is None
     finally:
         cache.SourcesLocator.directories.discard(str(missing))
+
+
+# ---------------------------------------------------------------- sealed cache files
+
+SEALED = """
+import numba as nb
+from faultnet._kernels.cache import verified
+
+def g(x):
+    return x * 3.0 + 1.0
+
+g = verified(nb.njit(cache=True)(g))
+"""
+
+
+def _run_sealed(pkg, cache_dir):
+    (pkg / "sealed.py").write_text(SEALED)
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir))
+    code = f"import sys; sys.path.insert(0, {str(pkg)!r}); from sealed import g; print(g(2.0))"
+    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    return float(out.stdout.strip().splitlines()[-1]), out.stderr.strip()
+
+
+def _flip_byte(data):
+    data = bytearray(data)
+    data[len(data) // 2] ^= 0x01
+    return bytes(data)
+
+
+DAMAGES = {
+    "empty": lambda data: b"",
+    "truncated": lambda data: data[: len(data) // 2],
+    "garbled": lambda data: b"\x80\x05garbage" * 50,
+    "one byte": _flip_byte,
+}
+
+
+@pytest.mark.parametrize("suffix", [".nbi", ".nbc"])
+@pytest.mark.parametrize("damage", sorted(DAMAGES))
+def test_a_damaged_cache_file_is_discarded_with_one_line(tmp_path, damage, suffix):
+    """Numba reads its files unchecked: EOFError, UnpicklingError, an abort or wrong code."""
+    cache_dir = tmp_path / "numba_cache"
+    assert _run_sealed(tmp_path, cache_dir) == (7.0, "")
+    (path,) = [
+        os.path.join(d, f) for d, _, fs in os.walk(cache_dir) for f in fs if f.endswith(suffix)
+    ]
+    with open(path, "rb") as fh:
+        data = fh.read()
+    assert data.startswith(cache.SEAL)
+    with open(path, "wb") as fh:
+        fh.write(DAMAGES[damage](data))
+    value, err = _run_sealed(tmp_path, cache_dir)
+    assert value == 7.0
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert f"discarded the damaged kernel cache file {path}" in err and "recompiling" in err
+    assert _run_sealed(tmp_path, cache_dir) == (7.0, "")  # cached anew, sealed
+
+
+def test_seal_round_trip_and_rejections():
+    payload = b"\x00compiled code\xff" * 10
+    assert cache.unseal(cache.seal(payload)) == payload
+    for bad in (b"", payload, cache.seal(payload)[:-1], _flip_byte(cache.seal(payload))):
+        with pytest.raises(ValueError):
+            cache.unseal(bad)
+
+
+def test_a_real_kernel_with_one_byte_changed_gives_the_same_catalog(tmp_path):
+    """The severe case: one changed byte of machine code ran and gave a different catalog."""
+    cache_dir = tmp_path / "numba_cache"
+    first, err = _catalog_hash(cache_dir)
+    (path,) = [
+        os.path.join(d, f) for d, _, fs in os.walk(cache_dir) for f in fs if f.endswith(".nbc")
+    ]
+    with open(path, "rb") as fh:
+        data = fh.read()
+    with open(path, "wb") as fh:
+        fh.write(_flip_byte(data))
+    second, err = _catalog_hash(cache_dir)
+    assert second == first
+    assert err.count("discarded the damaged kernel cache file") == 1, err
+
+
+HASH = """
+import hashlib, faultnet
+model = faultnet.CarlsonLanger(faultnet.graphs.ring(100))
+events = faultnet.simulate(model, 2000, rng=1, progress=False).events
+print(hashlib.sha256(events.to_csv().encode()).hexdigest())
+"""
+
+
+def _catalog_hash(cache_dir, env=None, cwd=None):
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache_dir), **(env or {}))
+    out = subprocess.run(
+        [sys.executable, "-c", HASH], env=env, capture_output=True, text=True, cwd=cwd
+    )
+    assert out.returncode == 0, out.stderr
+    return out.stdout.strip().splitlines()[-1], out.stderr.strip()
+
+
+def test_no_writable_cache_folder_runs_with_one_line(tmp_path):
+    """A shared install whose HOME and NUMBA_CACHE_DIR are read-only: no traceback."""
+    import shutil
+
+    import faultnet
+
+    src = os.path.dirname(faultnet.__file__)
+    shutil.copytree(
+        src, tmp_path / "pkg" / "faultnet", ignore=shutil.ignore_patterns("__pycache__")
+    )
+    (tmp_path / "pkg" / "faultnet" / "_kernels" / "__pycache__").write_text("not a folder")
+    blocker = tmp_path / "a-file"
+    blocker.write_text("")
+    env = {
+        "PYTHONPATH": str(tmp_path / "pkg"),
+        "HOME": str(blocker),  # ~/.cache cannot be made
+        "XDG_CACHE_HOME": str(blocker / "cache"),
+        "PYTHONDONTWRITEBYTECODE": "1",
+    }
+    digest, err = _catalog_hash(blocker / "numba", env, cwd=tmp_path)
+    assert len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert "no writable folder for the kernel cache" in err and "NUMBA_CACHE_DIR" in err
+    assert digest == _catalog_hash(tmp_path / "numba_cache")[0]

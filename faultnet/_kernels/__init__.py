@@ -20,6 +20,7 @@ _NAMES = {
     "STATUS_RUNAWAY": "crossing",
     "STATUS_SLIPS_FULL": "crossing",
     "empty_tree": "tree",
+    "is_cold": "cache",
     "run_events_dopri5": "events",
     "run_events_dopri5_interpolated": "events",
     "run_events_dopri5_local": "events",

@@ -44,13 +44,22 @@ lattice run 7 fewer compiled kernels, bit-identical catalogs.
 import numba as nb
 
 from faultnet._kernels import compiler
-from faultnet._kernels.cache import register
+from faultnet._kernels.cache import disk_cache_available, register, verified
 from faultnet._kernels.linking import PIPELINE
 
-__all__ = ["INNER", "entry", "forced_kernel", "inline_kernel", "kernel"]
+__all__ = ["CACHE", "INNER", "entry", "forced_kernel", "inline_kernel", "kernel"]
 
 # one cache stamp for all kernels (faultnet._kernels.cache), before any kernel is decorated
 register()
+#: whether the kernels are cached on disk (False, after one line saying why, where no cache
+#: folder is writable); every cached file is checked before it is loaded
+CACHE = disk_cache_available()
+
+
+def _cached(**options):
+    """Numba's ``njit`` with the disk cache where there is one, its files checked."""
+    decorate = nb.njit(cache=CACHE, **options)
+    return lambda func: verified(decorate(func))
 
 #: options of the kernels called from compiled code only
 #: (``forceinline`` is set so that a kernel's flags never depend on the caller it is first
@@ -68,7 +77,7 @@ def _linked(options):
     """The decorator of link-only kernels (Numba's own, cached, where PIPELINE is None)."""
     if PIPELINE:
         return nb.njit(pipeline_class=PIPELINE, **options)
-    return nb.njit(cache=True, **options)
+    return _cached(**options)
 
 
 #: a kernel called from other kernels: its LLVM IR is linked into the entries' code
@@ -77,10 +86,9 @@ kernel = _linked(INNER)
 #: a kernel that LLVM always inlines where it is called (typed once, unlike an inline_kernel)
 forced_kernel = _linked(dict(INNER, forceinline=True))
 #: a kernel inlined into its callers (Numba IR inlining, before typing)
-inline_kernel = nb.njit(cache=True, inline="always", **INNER)
+inline_kernel = _cached(inline="always", **INNER)
 #: a kernel called from Python, compiled by :mod:`faultnet._kernels.compiler`
-entry = nb.njit(
-    cache=True,
+entry = _cached(
     nogil=True,
     _nrt=False,
     **({"pipeline_class": compiler.PIPELINE} if compiler.PIPELINE else {}),
