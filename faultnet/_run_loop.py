@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
 from tqdm.auto import tqdm
 
 from faultnet.atomic import atomic_write_json
@@ -145,6 +147,13 @@ def _write_failure(path, ck_path, committed, what="write"):
         raise
     except OSError as exc:
         out = os.path.dirname(ck_path)[: -len(CHECKPOINT_SUFFIX)]
+        if not os.path.isfile(ck_path):  # its folder was deleted or moved during the run
+            kept = "nothing was kept" if committed == 0 else "the events computed so far are lost"
+            raise CatalogError(
+                f"cannot {what} {path}: {exc.strerror or exc}. The checkpoint {ck_path} is "
+                f"gone too (was the output folder deleted or moved?), so {kept}; run "
+                f"'faultnet simulate' again into an existing folder"
+            ) from exc
         raise CatalogError(
             f"cannot {what} {path}: {exc.strerror or exc}. The checkpoint {ck_path} is intact "
             f"({committed:,} events committed); free space (or fix the cause) and run "
@@ -181,7 +190,7 @@ def _final_metadata(model, options, identity, first_md, counters, extra, transie
         n_steps=counters["n_steps"],
         block_steps=counters["block_steps"],
         graph_hash=identity["graph_hash"],
-        transient=int(transient),
+        transient=int(transient[0]),
         chunk_events=int(chunk_events),
         runs=counters["runs"],
         created=first_md.get("created", utc_now()),
@@ -194,8 +203,25 @@ def _final_metadata(model, options, identity, first_md, counters, extra, transie
     for key in ("seed_entropy", "seed_spawn_key"):
         if key in model.graph.graph:
             md[f"graph_{key}"] = model.graph.graph[key]
+    if transient[1]:
+        md["transient_rule"] = transient[1]
     md.update(extra or {})
     return md
+
+
+def _transient(transient, n_events, sink, wd, n_chunks):
+    """``(events, rule)`` left out of b fits: as given, or by the default rule (None)."""
+    if transient is not None:
+        return int(transient), None
+    from faultnet.summary import default_transient
+
+    if wd is None:
+        return default_transient(sink.times, n_events)
+    columns = (pq.read_table(chunk_path(wd, i), columns=["t"]) for i in range(n_chunks))
+    try:
+        return default_transient((c.column(0).to_numpy() for c in columns), n_events)
+    except (OSError, pa.ArrowException) as exc:
+        raise CatalogError(f"cannot read the plate times of the chunks in {wd}: {exc}") from exc
 
 
 def _simulator(model, seq, options, ck, first_md, wd):
@@ -261,6 +287,7 @@ def run_loop(*, model, n_events, out, wd, identity, seq, options, chunk_events, 
                 shutil.rmtree(wd)
         raise
     bar.close()
+    transient = _transient(transient, n_events, sink, wd, ck.n_chunks)
     md = _final_metadata(
         model, options, identity, first_md, ck.counters, extra, transient, chunk_events
     )

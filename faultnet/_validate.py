@@ -24,7 +24,9 @@ import numpy as np
 from faultnet.exceptions import InvalidParameterError
 
 __all__ = [
+    "available_memory",
     "check_columns",
+    "check_memory",
     "check_finite",
     "check_int",
     "check_positive",
@@ -33,6 +35,34 @@ __all__ = [
 ]
 
 _RNG_RULE = "None, an int >= 0, a numpy SeedSequence or a numpy Generator"
+
+
+def available_memory():
+    """Bytes of memory a new allocation may take (Linux ``MemAvailable``; else physical)."""
+    try:
+        with open("/proc/meminfo", encoding="ascii") as fh:
+            for line in fh:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    try:
+        import os
+
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, OSError, ValueError):
+        return None
+
+
+def check_memory(what, n_bytes, instead):
+    """Refuse an allocation of ``n_bytes`` for ``what`` beyond the memory available, saying
+    what to do ``instead``."""
+    avail = available_memory()
+    if avail is not None and n_bytes > avail:
+        raise InvalidParameterError(
+            f"{what} would take about {n_bytes / 2**30:,.3g} GiB of memory, more than the "
+            f"{avail / 2**30:,.3g} GiB available; {instead}"
+        )
 
 
 def check_columns(name, table, columns, source):

@@ -77,8 +77,8 @@ def atomic_path(path, overwrite=True):
     """Yield a temporary path; on success move it onto ``path`` atomically.
 
     The temporary file is fsynced, renamed with ``os.replace`` and the folder
-    fsynced.  On an exception the temporary file is removed and ``path`` is
-    untouched.
+    fsynced.  Where ``path`` is a symbolic link, its target is replaced and the link
+    kept.  On an exception the temporary file is removed and ``path`` is untouched.
 
     >>> import tempfile, os
     >>> p = os.path.join(tempfile.mkdtemp(), "x.txt")
@@ -88,6 +88,8 @@ def atomic_path(path, overwrite=True):
     'hello'
     """
     path = os.fspath(path)
+    if os.path.islink(path):  # replace the link's target, not the link
+        path = os.path.realpath(path)
     if not overwrite and os.path.exists(path):
         raise OutputExistsError(f"{path} exists; refusing to overwrite it")
     tmp = tmp_name(path)

@@ -122,32 +122,17 @@ def _print_run(args, report, elapsed, out):
 
 
 def _fit_transient(args, report):
-    """Events left out of the b fits, and the line that explains a default choice (or None)."""
-    import numpy as np
+    """Events left out of the b fits, and the line that explains a default choice (or None).
 
-    from faultnet.summary import TRANSIENT_PLATE_TIME, events_before
-
+    Without ``--transient`` the run recorded the events that its default rule left out
+    (:func:`faultnet.summary.default_transient`), so ``faultnet info`` fits the same events.
+    """
     md = report.metadata
-    transient = args.transient if args.transient is not None else md.get("transient") or None
-    if transient is not None:
-        return transient, None
-    # default: leave out the events before plate time 2
-    if report.path is not None:
-        transient = events_before(report.path, TRANSIENT_PLATE_TIME)
-    else:
-        transient = int(np.searchsorted(report.plate_times, TRANSIENT_PLATE_TIME))
-    note = (
-        f"transient   the {transient:,} events before plate time {TRANSIENT_PLATE_TIME:g} "
-        "are left out of the fits (--transient N to choose)"
-    )
-    if transient > md["n_events"] // 2:  # a short run: fit its second half
-        transient = md["n_events"] // 2
-        note = (
-            f"transient   the first half of the run ({transient:,} events) is left out of "
-            f"the fits: the run ends before plate time {TRANSIENT_PLATE_TIME:g}, so it may "
-            "not be in a steady state yet (--transient N to choose)"
-        )
-    return transient, note
+    if args.transient is not None:
+        return args.transient, None
+    rule = md.get("transient_rule")
+    note = f"transient   {rule} (--transient N to choose)" if rule else None
+    return int(md.get("transient") or 0), note
 
 
 def _stats_in_memory(report, transient, m_min, m_max):

@@ -30,7 +30,7 @@ from faultnet._kernels.layout import (
     SCAL_OFFSET,
     SCAL_W,
 )
-from faultnet._validate import check_int
+from faultnet._validate import check_int, check_memory
 from faultnet.catalog import SimulationResult, events_frame
 from faultnet.exceptions import InvalidParameterError
 from faultnet.kernel_arrays import KernelArrays, initial_state, trace_indices
@@ -45,6 +45,8 @@ __all__ = ["COMPILING_LABEL", "Simulator", "run_options", "simulate", "slip_even
 COMPILING_LABEL = "faultnet: compiling the kernels (first run only, 9-12 s)"
 #: ``record_profiles`` keeps at most this many values (n_events x n_blocks)
 MAX_PROFILE_VALUES = 20_000_000
+#: memory of one event in a chunk: the kernels' catalog rows and the events frame made of them
+_BYTES_PER_EVENT = 8 * (CAT_F_SIZE + CAT_I_SIZE) * 2
 
 
 def _kernels():
@@ -215,6 +217,12 @@ class Simulator:
                 f"record_profiles would store {n_events} x {n} values (limit "
                 f"{MAX_PROFILE_VALUES:.0e}); run fewer events or record slips instead"
             )
+        check_memory(
+            f"n_events={n_events:,} in memory",
+            n_events * _BYTES_PER_EVENT,
+            "write long runs to a file in chunks (simulate_to_parquet, faultnet simulate "
+            "--out), or advance a Simulator a part at a time",
+        )
         arr = self._arrays
         arr.start_chunk(n_events if record_profiles else 0)
         ev0 = arr.n_events

@@ -115,7 +115,8 @@ def check_catalog_path(path, name="path"):
     """``path`` as a string; an error naming ``name`` unless it ends in ``.parquet``.
 
     A catalog is a Parquet file whatever its name, so a name such as ``cat.csv`` would hide
-    what the file holds from every other program.
+    what the file holds from every other program.  A symbolic link is written through:
+    the path returned is its target's.
 
     >>> check_catalog_path("runs/ring.parquet")
     'runs/ring.parquet'
@@ -130,6 +131,13 @@ def check_catalog_path(path, name="path"):
             f"{name} must name a {CATALOG_SUFFIX} file (catalogs are Parquet: pandas.read_parquet "
             f"or faultnet.read_catalog reads them, DataFrame.to_csv converts); got {text!r}"
         )
+    if os.path.islink(text):  # write through the link: its target is the catalog
+        target = os.path.realpath(text)
+        if not target.endswith(CATALOG_SUFFIX):
+            raise InvalidParameterError(
+                f"{name} {text!r} is a link to {target!r}, which is not a {CATALOG_SUFFIX} file"
+            )
+        return target
     return text
 
 
@@ -140,8 +148,26 @@ def _encode_metadata(md):
     return json.dumps(md, default=json_default, sort_keys=True).encode()
 
 
+#: metadata keys that must hold integers, and those that must hold numbers (or null)
+_INT_KEYS = ("n_events", "first_event", "transient", "n_blocks", "runs", "chunk_events")
+_NUMBER_KEYS = ("wall_time_s", "dt", "k", "sigma", "alpha")
+
+
+#: the columns that verifying and summarising a catalog read
+STATS_COLUMNS = ("event", "t", "M", "n_blocks")
+
+
 def _decode_metadata(raw):
     md = json.loads(raw)
+    if not isinstance(md, dict):
+        raise ValueError(f"it is a JSON {type(md).__name__}, not an object")
+    for key in _INT_KEYS:
+        if key in md and (not isinstance(md[key], int) or isinstance(md[key], bool)):
+            raise ValueError(f"{key} must be an integer; got {md[key]!r}")
+    for key in _NUMBER_KEYS:
+        value = md.get(key)
+        if value is not None and (not isinstance(value, (int, float)) or isinstance(value, bool)):
+            raise ValueError(f"{key} must be a number; got {value!r}")
     for key, value in md.items():
         if key.endswith("spawn_key") and isinstance(value, list):
             md[key] = tuple(value)
@@ -299,17 +325,24 @@ def _file_metadata(path):
     try:
         return schema, _decode_metadata(schema.metadata[METADATA_KEY])
     except ValueError as exc:
-        raise CatalogError(f"{path}: faultnet metadata is not valid JSON: {exc}") from exc
+        raise CatalogError(f"{path}: its faultnet metadata is garbled: {exc}") from None
 
 
-def open_catalog_file(path):
+def open_catalog_file(path, columns=()):
     """``(path, metadata)`` of a catalog file, reading only its footer.
 
     Raises :class:`~faultnet.exceptions.CatalogError` if the file is missing,
-    a folder, unreadable or carries no faultnet metadata.
+    a folder, unreadable, carries no faultnet metadata or lacks one of ``columns``.
     """
     path = _check_catalog_file(path)
-    return path, _file_metadata(path)[1]
+    schema, md = _file_metadata(path)
+    missing = [name for name in columns if name not in schema.names]
+    if missing:
+        raise CatalogError(
+            f"catalog {path} has no column {', '.join(map(repr, missing))} (its columns: "
+            f"{', '.join(schema.names)}); was it edited? recompute it (--force)"
+        )
+    return path, md
 
 
 def read_metadata(path) -> dict:
@@ -347,12 +380,10 @@ def verify_catalog(path) -> dict:
 
     Reads only the ``event`` column, one row group at a time.
     """
-    path, md = open_catalog_file(path)
+    path, md = open_catalog_file(path, STATS_COLUMNS)
     try:
         pf = pq.ParquetFile(path)
         check_event_count(path, md, pf.metadata.num_rows)
-        if "event" not in pf.schema_arrow.names:
-            raise CatalogError(f"catalog {path} has no 'event' column")
         seen = 0
         for i in range(pf.metadata.num_row_groups):
             events = pf.read_row_group(i, columns=["event"]).column(0).to_numpy()

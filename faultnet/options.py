@@ -108,6 +108,15 @@ def default_dt(model, method: str = "dopri5") -> float:
     return DT_COEFFICIENT[_check_method(method)] / math.sqrt(omega2_max(model))
 
 
+def _stiffest_spring(model):
+    """``(node, node, k)`` of the stiffest spring of ``model`` (the plate's where it has none)."""
+    adj = model.adjacency.tocoo()
+    if adj.nnz == 0:
+        return "plate", model.nodes[0], 1.0
+    i = int(np.argmax(adj.data))
+    return model.nodes[int(adj.row[i])], model.nodes[int(adj.col[i])], float(adj.data[i])
+
+
 @dataclass(frozen=True)
 class RunOptions:
     """The numerical choices of a run (all of them change results).
@@ -219,6 +228,15 @@ class RunOptions:
                 f"dt={dt:g} is beyond the RK4 stability limit {limit:.4g} of this model "
                 f"(stiffest block); use dt <= {limit:.4g} or leave dt=None for "
                 f"{default_dt(model, self.method):.4g}"
+            )
+        stiff = self.max_event_duration / default_dt(model, self.method) > MAX_STEPS_PER_EVENT
+        if self.dt is None and stiff:  # the model, not the accuracy asked, needs tiny steps
+            a, b, k = _stiffest_spring(model)
+            raise InvalidParameterError(
+                f"the spring k={k:g} on edge ({a!r}, {b!r}) is too stiff to integrate: it "
+                f"needs steps of dt={dt:.3g}, and an event could take more than "
+                f"{MAX_STEPS_PER_EVENT:.0e} of them; check the edge's k (in units of the "
+                f"plate spring)"
             )
         if self.max_event_duration / dt > MAX_STEPS_PER_EVENT:
             raise InvalidParameterError(

@@ -28,7 +28,7 @@ import os
 import numpy as np
 
 from faultnet._run_loop import RunReport, run_loop
-from faultnet._validate import check_int, seed_sequence
+from faultnet._validate import check_int, check_memory, seed_sequence
 from faultnet.checkpoint import (
     CHECKPOINT_SUFFIX,
     checkpoint_dir,
@@ -40,7 +40,7 @@ from faultnet.checkpoint import (
     remove_checkpoint_dir,
     run_identity,
 )
-from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
+from faultnet.exceptions import InvalidParameterError, OutputExistsError
 from faultnet.io import check_catalog_path, read_metadata, verify_catalog
 from faultnet.lock import LOCK_SUFFIX, output_lock
 
@@ -100,8 +100,11 @@ def simulate_to_parquet(
         Discard an existing checkpoint or replace an existing ``out``.
     progress : bool or None
         Progress bar with events and plate time (None: on a terminal).
-    transient : int
-        Events to leave out of b-value fits; recorded in the metadata.
+    transient : int or None
+        Events to leave out of b-value fits; recorded in the metadata.  None applies the
+        default rule of ``faultnet simulate``: the events before plate time 2, at most half
+        the run (:func:`faultnet.summary.default_transient`), counted when the run ends and
+        recorded with the rule (``transient_rule``).
     metadata : dict, optional
         Extra metadata stored in ``run.json`` and the catalog.
     desc : str, optional
@@ -119,7 +122,12 @@ def simulate_to_parquet(
     job = _job(model, n_events, dt, options, chunk_events, checkpoint_interval, transient)
     job.update(progress=progress, extra=metadata, desc=desc, on_commit=on_commit)
     step = job["options"].step(model)
-    if out is None:
+    if out is None:  # the magnitudes and plate times are kept for the summary
+        check_memory(
+            f"n_events={job['n_events']:,} without an output file",
+            16 * job["n_events"],
+            "give an output file (out=..., --out FILE): it is written in chunks",
+        )
         seq = seed_sequence(rng)
         identity = run_identity(model, job["n_events"], step, job["options"], seq)
         return run_loop(out=None, wd=None, seq=seq, resume_point=None, identity=identity, **job)
@@ -143,7 +151,8 @@ def _job(model, n_events, dt, options, chunk_events, checkpoint_interval, transi
         raise InvalidParameterError(f"model must be a CarlsonLanger; got {type(model).__name__}")
     n_events = check_int("n_events", n_events)
     chunk_events = check_int("chunk_events", chunk_events)
-    transient = check_int("transient", transient, minimum=0)
+    if transient is not None:
+        transient = check_int("transient", transient, minimum=0)
     interval = float(checkpoint_interval)
     if not (interval >= 0.0):
         raise InvalidParameterError(
@@ -205,10 +214,7 @@ def stored_request(out):
     if os.path.isfile(run_json):
         return read_run_json(run_json)
     if os.path.isfile(out):
-        try:
-            return read_metadata(out)
-        except CatalogError:
-            return None
+        return read_metadata(out)  # a garbled file: CatalogError naming it
     return None
 
 

@@ -101,7 +101,7 @@ def run_from_spec(
         given["graph"], k=given["k"], sigma=given["sigma"], alpha=given["alpha"], rng=seq
     )
     request = {key: given[key] for key in ("graph", "n_events", "k", "sigma", "alpha", "dt")}
-    request["transient"] = given["transient"] or 0
+    request["transient"] = given["transient"]
     md = {"request": request}
     md.update(extra or {})
     return simulate_to_parquet(
@@ -116,7 +116,7 @@ def run_from_spec(
         resume=resume,
         force=force,
         progress=progress,
-        transient=int(given["transient"] or 0),
+        transient=given["transient"],
         metadata=md,
         on_commit=on_commit,
     )

@@ -26,11 +26,12 @@ import pyarrow.parquet as pq
 
 from faultnet import stats
 from faultnet.exceptions import CatalogError, FaultnetError
-from faultnet.io import check_event_count, check_event_numbers, open_catalog_file
+from faultnet.io import STATS_COLUMNS, check_event_count, check_event_numbers, open_catalog_file
 
 __all__ = [
     "MAX_FIT_EVENTS",
     "catalog_stats",
+    "default_transient",
     "fit_b_values",
     "format_metadata",
     "format_stats",
@@ -65,7 +66,7 @@ def read_magnitudes(path, skip=0, max_n=MAX_FIT_EVENTS):
     Returns ``(M, step)``: when more than ``max_n`` remain, every ``step``-th
     event is kept so that memory stays bounded.
     """
-    path, _ = open_catalog_file(path)
+    path, _ = open_catalog_file(path, ["M"])
     pf = pq.ParquetFile(path)
     n = pf.metadata.num_rows
     remaining = max(n - int(skip), 0)
@@ -90,7 +91,7 @@ def read_magnitudes(path, skip=0, max_n=MAX_FIT_EVENTS):
 
 def events_before(path, t):
     """Number of events of a catalog file whose plate time is below ``t``, streamed."""
-    path, _ = open_catalog_file(path)
+    path, _ = open_catalog_file(path, ["t"])
     count = 0
     try:
         for batch in _row_groups(pq.ParquetFile(path), ["t"]):
@@ -101,6 +102,28 @@ def events_before(path, t):
     except (OSError, pa.ArrowException) as exc:
         raise CatalogError(f"cannot read catalog {path}: {exc}") from exc
     return count
+
+
+def default_transient(times, n_events):
+    """``(transient, rule)``: the events before plate time :data:`TRANSIENT_PLATE_TIME`
+    among plate ``times`` (an iterable of sorted arrays, the run's in order), at most half of
+    ``n_events``; ``rule`` is the sentence that says which applied."""
+    count = 0
+    for t in times:
+        t = np.asarray(t)
+        count += int(np.searchsorted(t, TRANSIENT_PLATE_TIME))
+        if len(t) and t[-1] >= TRANSIENT_PLATE_TIME:
+            break
+    if count > n_events // 2:  # a short run: fit its second half
+        return n_events // 2, (
+            f"the first half of the run ({n_events // 2:,} events) is left out of the fits: "
+            f"the run ends before plate time {TRANSIENT_PLATE_TIME:g}, so it may not be in a "
+            "steady state yet"
+        )
+    return count, (
+        f"the {count:,} events before plate time {TRANSIENT_PLATE_TIME:g} are left out of "
+        "the fits"
+    )
 
 
 def fit_b_values(M, m_min=None, m_max=None) -> dict:
@@ -170,7 +193,7 @@ def catalog_stats(path, transient=None, m_min=None, m_max=None, max_n=MAX_FIT_EV
     plate-time range, magnitude range, the largest event's blocks and the b
     fits of :func:`fit_b_values` (``m_min``, ``m_max``: its fit window).
     """
-    path, md = open_catalog_file(path)
+    path, md = open_catalog_file(path, STATS_COLUMNS)
     if transient is None:
         transient = int(md.get("transient") or 0)
     pf = pq.ParquetFile(path)
@@ -179,9 +202,9 @@ def catalog_stats(path, transient=None, m_min=None, m_max=None, max_n=MAX_FIT_EV
     t_first = t_last = float("nan")
     m_lo, m_hi, big = math.inf, -math.inf, 0
     seen = 0
-    numbered = "n_events" in md and "event" in pf.schema_arrow.names
+    numbered = "n_events" in md
     try:
-        for batch in _row_groups(pf, ["t", "M", "n_blocks"] + (["event"] if numbered else [])):
+        for batch in _row_groups(pf, ["t", "M", "n_blocks", "event"]):
             if numbered:
                 seen = check_event_numbers(path, md, batch.column(3).to_numpy(), seen)
             t = batch.column(0).to_numpy()

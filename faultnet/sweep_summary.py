@@ -157,14 +157,16 @@ def _summarize_catalogs(out, transient, m_min, m_max):
         path = os.path.join(out, name)
         try:
             md = read_metadata(path)
-        except CatalogError:
-            continue  # not a faultnet catalog
+        except CatalogError as exc:  # garbled, or not a faultnet catalog: say which and why
+            point = _catalog_point({"graph": None}, i)
+            rows.append(_row(point, path, {}, {}, f"corrupt: {exc}"))
+            continue
         point = _catalog_point(md, i)
         try:
             rows.append(point_row(point, path, transient, m_min, m_max))
         except CatalogError as exc:
             rows.append(_row(point, path, md, {}, f"corrupt: {exc}"))
-    if not rows:
+    if all(str(row["status"]).startswith("corrupt") for row in rows):
         raise InvalidParameterError(f"{out} holds no sweep ({MANIFEST}) and no faultnet catalogs")
     table = summary_table(rows)
     table.attrs["out"] = out
