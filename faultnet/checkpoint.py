@@ -35,11 +35,13 @@ What is checked
 What a lock protects
     one writer per output (``out.parquet.lock``) and per sweep folder
     (``sweep.lock``), see :mod:`faultnet.lock`; a second writer is refused
-    naming the holder, a lock of a dead process is taken over.
+    naming the holder; the operating system releases the lock of a process
+    that dies.
 What a user must not do
     edit or delete files inside a checkpoint or sweep folder by hand, delete a
     lock whose holder may be alive, or share an output between hosts on a
-    file system without ``O_EXCL``.  The full list: ``docs/guide/guarantees.rst``.
+    file system that does not carry ``flock`` between them.  The full list:
+    ``docs/guide/guarantees.rst``.
 """
 
 from __future__ import annotations

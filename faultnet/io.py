@@ -56,6 +56,7 @@ __all__ = [
     "CATALOG_SUFFIX",
     "FORMAT_VERSION",
     "METADATA_KEY",
+    "STATS_COLUMNS",
     "Catalog",
     "CatalogError",
     "OutputExistsError",
@@ -68,6 +69,7 @@ __all__ = [
     "events_to_table",
     "fsync_dir",
     "fsync_file",
+    "is_catalog_file",
     "is_tmp_name",
     "iter_catalog",
     "merge_parts",
@@ -326,6 +328,16 @@ def _file_metadata(path):
         return schema, _decode_metadata(schema.metadata[METADATA_KEY])
     except ValueError as exc:
         raise CatalogError(f"{path}: its faultnet metadata is garbled: {exc}") from None
+
+
+def is_catalog_file(path) -> bool:
+    """False for a readable Parquet file without faultnet metadata (another program's file);
+    True for every other file, a damaged catalog included."""
+    try:
+        schema = pq.read_schema(path)
+    except (OSError, pa.ArrowException):
+        return True
+    return bool(schema.metadata) and METADATA_KEY in schema.metadata
 
 
 def open_catalog_file(path, columns=()):

@@ -121,8 +121,7 @@ def default_transient(times, n_events):
             "steady state yet"
         )
     return count, (
-        f"the {count:,} events before plate time {TRANSIENT_PLATE_TIME:g} are left out of "
-        "the fits"
+        f"the {count:,} events before plate time {TRANSIENT_PLATE_TIME:g} are left out of the fits"
     )
 
 

@@ -16,7 +16,7 @@ import pandas as pd
 from faultnet.atomic import is_tmp_name
 from faultnet.checkpoint import checkpoint_status
 from faultnet.exceptions import CatalogError, InvalidParameterError
-from faultnet.io import read_metadata
+from faultnet.io import is_catalog_file, read_metadata
 from faultnet.summary import catalog_stats
 from faultnet.sweep_config import SweepConfig
 from faultnet.sweep_folder import MANIFEST, point_file_name
@@ -155,9 +155,11 @@ def _summarize_catalogs(out, transient, m_min, m_max):
     names = sorted(n for n in os.listdir(out) if n.endswith(".parquet") and not is_tmp_name(n))
     for i, name in enumerate(names):
         path = os.path.join(out, name)
+        if not is_catalog_file(path):
+            continue  # another program's Parquet file
         try:
             md = read_metadata(path)
-        except CatalogError as exc:  # garbled, or not a faultnet catalog: say which and why
+        except CatalogError as exc:  # garbled or truncated: say which and why
             point = _catalog_point({"graph": None}, i)
             rows.append(_row(point, path, {}, {}, f"corrupt: {exc}"))
             continue
@@ -166,7 +168,7 @@ def _summarize_catalogs(out, transient, m_min, m_max):
             rows.append(point_row(point, path, transient, m_min, m_max))
         except CatalogError as exc:
             rows.append(_row(point, path, md, {}, f"corrupt: {exc}"))
-    if all(str(row["status"]).startswith("corrupt") for row in rows):
+    if not rows:
         raise InvalidParameterError(f"{out} holds no sweep ({MANIFEST}) and no faultnet catalogs")
     table = summary_table(rows)
     table.attrs["out"] = out

@@ -244,7 +244,7 @@ def _never_compiled(x):
 
 
 def test_cache_is_cold():
-    from faultnet.engine import _cache_is_cold
+    from faultnet._kernels.cache import is_cold as _cache_is_cold
 
     assert _cache_is_cold(_never_compiled)  # nothing in its on-disk cache
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
@@ -264,7 +264,9 @@ def test_progress_bar_says_when_the_first_run_compiles(monkeypatch, capsys):
     capsys.readouterr()
     faultnet.simulate(model, 5, rng=1, progress=True)
     assert engine.COMPILING_LABEL not in capsys.readouterr().err
-    monkeypatch.setattr(engine, "_cache_is_cold", lambda kernel: True)  # a cold cache
+    from faultnet import _kernels
+
+    monkeypatch.setattr(_kernels, "is_cold", lambda kernel: True)  # a cold cache
     faultnet.simulate(model, 5, rng=1, progress=True)
     assert engine.COMPILING_LABEL in capsys.readouterr().err
 

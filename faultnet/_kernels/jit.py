@@ -61,6 +61,7 @@ def _cached(**options):
     decorate = nb.njit(cache=CACHE, **options)
     return lambda func: verified(decorate(func))
 
+
 #: options of the kernels called from compiled code only
 #: (``forceinline`` is set so that a kernel's flags never depend on the caller it is first
 #: compiled for: Numba's kernels inherit an unset ``forceinline`` from that caller)
