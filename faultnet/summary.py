@@ -25,8 +25,13 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from faultnet import stats
+from faultnet.catalog_check import (
+    STATS_COLUMNS,
+    check_event_count,
+    check_event_numbers,
+    open_catalog_file,
+)
 from faultnet.exceptions import CatalogError, FaultnetError
-from faultnet.io import STATS_COLUMNS, check_event_count, check_event_numbers, open_catalog_file
 
 __all__ = [
     "MAX_FIT_EVENTS",

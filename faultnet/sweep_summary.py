@@ -14,9 +14,9 @@ import os
 import pandas as pd
 
 from faultnet.atomic import is_tmp_name
+from faultnet.catalog_check import is_catalog_file, read_metadata
 from faultnet.checkpoint import checkpoint_status
 from faultnet.exceptions import CatalogError, InvalidParameterError
-from faultnet.io import is_catalog_file, read_metadata
 from faultnet.summary import catalog_stats
 from faultnet.sweep_config import SweepConfig
 from faultnet.sweep_folder import MANIFEST, point_file_name

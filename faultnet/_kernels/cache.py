@@ -193,9 +193,7 @@ class VerifiedCacheFile(caching.IndexDataCacheFile):
     def _load_index(self):
         try:
             payload = self._read(self._index_path)
-        except FileNotFoundError:
-            return {}
-        except DamagedCacheFile:
+        except (FileNotFoundError, DamagedCacheFile):
             return {}
         version, rest = _split_pickle(payload)
         if version != self._version:
