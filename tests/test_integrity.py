@@ -42,13 +42,6 @@ def _interrupted(out, after=3, alpha=1.5):
     return checkpoint_dir(out)
 
 
-def _one_line(capsys):
-    err = capsys.readouterr().err.strip()
-    assert "Traceback" not in err
-    assert len(err.splitlines()) == 1, err
-    return err
-
-
 @pytest.fixture(scope="module")
 def reference(tmp_path_factory):
     out = tmp_path_factory.mktemp("ref") / "ref.parquet"
@@ -59,7 +52,7 @@ def reference(tmp_path_factory):
 # ---------------------------------------------------------------- identity (defect 2)
 
 
-def test_resume_without_run_json_is_refused(tmp_path, capsys, reference):
+def test_resume_without_run_json_is_refused(tmp_path, capsys, reference, one_line):
     out = tmp_path / "x.parquet"
     wd = _interrupted(out)
     os.remove(os.path.join(wd, "run.json"))
@@ -67,7 +60,7 @@ def test_resume_without_run_json_is_refused(tmp_path, capsys, reference):
         run_from_spec(out=out, resume=True, alpha=3.0, progress=False, **SPEC)
     rc = main(["simulate", "--resume", "--out", str(out), "ring:30", "-n", str(EVENTS),
                "--alpha", "3"])  # fmt: skip
-    assert rc == 1 and "run.json" in _one_line(capsys)
+    assert rc == 1 and "run.json" in one_line()
     # nothing was mixed in: --force restarts cleanly
     run_from_spec(out=out, resume=True, force=True, alpha=1.5, progress=False, **SPEC)
     pd.testing.assert_frame_equal(read_catalog(out).events, reference)
@@ -83,7 +76,7 @@ def _damage(path, n=64):
         fh.write(bytes(range(n)))
 
 
-def test_damaged_chunk_is_refused_on_resume_and_by_info(tmp_path, capsys):
+def test_damaged_chunk_is_refused_on_resume_and_by_info(tmp_path, capsys, one_line):
     out = tmp_path / "x.parquet"
     wd = _interrupted(out)
     bad = chunk_path(wd, 1)
@@ -91,10 +84,10 @@ def test_damaged_chunk_is_refused_on_resume_and_by_info(tmp_path, capsys):
     with pytest.raises(CatalogError, match=r"chunk-000001\.parquet does not match its checksum"):
         run_from_spec(out=out, resume=True, progress=False, **SPEC)
     assert main(["simulate", "--resume", "--out", str(out)]) == 1
-    msg = _one_line(capsys)
+    msg = one_line()
     assert "chunk-000001.parquet" in msg and "--force" in msg
     assert main(["info", str(out)]) == 1
-    assert "checksum" in _one_line(capsys)
+    assert "checksum" in one_line()
 
 
 def test_chunk_damaged_during_the_run_is_refused_at_the_merge(tmp_path):
@@ -120,7 +113,9 @@ def _rewrite(path, events):
 
 
 @pytest.mark.parametrize("damage", ["short", "duplicated"])
-def test_complete_but_wrong_catalog_is_never_accepted(tmp_path, reference, capsys, damage):
+def test_complete_but_wrong_catalog_is_never_accepted(
+    tmp_path, reference, capsys, damage, one_line
+):
     out = tmp_path / "x.parquet"
     run_from_spec(out=out, alpha=1.5, progress=False, **SPEC)
     ev = read_catalog(out).events
@@ -133,7 +128,7 @@ def test_complete_but_wrong_catalog_is_never_accepted(tmp_path, reference, capsy
     with pytest.raises(CatalogError, match=match):  # resume of a "complete" output
         run_from_spec(out=out, resume=True, progress=False, **SPEC)
     assert main(["info", str(out)]) == 1
-    assert "x.parquet" in _one_line(capsys)
+    assert "x.parquet" in one_line()
     table = summarize(tmp_path)  # a folder of catalogs
     assert table["status"].iloc[0].startswith("corrupt")
 
@@ -143,7 +138,7 @@ def test_complete_but_wrong_catalog_is_never_accepted(tmp_path, reference, capsy
 
 @pytest.mark.parametrize("damage", ["truncated npz", "empty npz", "garbled run.json", "[1,2]"])
 @pytest.mark.parametrize("command", ["simulate", "info"])
-def test_broken_checkpoint_files_give_one_line(tmp_path, capsys, damage, command):
+def test_broken_checkpoint_files_give_one_line(tmp_path, capsys, damage, command, one_line):
     out = tmp_path / "x.parquet"
     wd = _interrupted(out)
     npz, run_json = os.path.join(wd, "checkpoint.npz"), os.path.join(wd, "run.json")
@@ -160,7 +155,7 @@ def test_broken_checkpoint_files_give_one_line(tmp_path, capsys, damage, command
         ["simulate", "--resume", "--out", str(out)] if command == "simulate" else ["info", str(out)]
     )
     assert main(argv) == 1
-    msg = _one_line(capsys)
+    msg = one_line()
     name = "checkpoint.npz" if "npz" in damage else "run.json"
     assert name in msg and "--force" in msg
     if command == "simulate":  # --force recovers
@@ -168,7 +163,7 @@ def test_broken_checkpoint_files_give_one_line(tmp_path, capsys, damage, command
         assert main([*argv, "ring:30", "-n", str(EVENTS), "--seed", "3", "--force"]) == 0
 
 
-def test_ctrl_c_while_loading_the_command_line(monkeypatch, capsys):
+def test_ctrl_c_while_loading_the_command_line(monkeypatch, capsys, one_line):
     real_import = builtins.__import__
 
     def interrupted(name, *args, **kwargs):
@@ -179,14 +174,16 @@ def test_ctrl_c_while_loading_the_command_line(monkeypatch, capsys):
     monkeypatch.delitem(sys.modules, "faultnet.cli")
     monkeypatch.setattr(builtins, "__import__", interrupted)
     assert main(["info", "x.parquet"]) == 130
-    assert "interrupted" in _one_line(capsys)
+    assert "interrupted" in one_line()
 
 
 # ---------------------------------------------------------------- full disk (defect 10)
 
 
 @pytest.mark.parametrize("where", ["chunk", "merge"])
-def test_full_disk_names_the_file_and_the_way_on(tmp_path, monkeypatch, capsys, where, reference):
+def test_full_disk_names_the_file_and_the_way_on(
+    tmp_path, monkeypatch, capsys, where, reference, one_line
+):
     out = tmp_path / "x.parquet"
     # the disk fills inside a write: the run loop's writer itself must fail
     real_part, real_merge, calls = _run_loop.write_part, _run_loop.merge_parts, {"n": 0}
@@ -205,7 +202,7 @@ def test_full_disk_names_the_file_and_the_way_on(tmp_path, monkeypatch, capsys, 
     argv = ["simulate", "ring:30", "-n", str(EVENTS), "--alpha", "1.5", "--seed", "3",
             "--chunk", "250", "--checkpoint-every", "0", "--out", str(out)]  # fmt: skip
     assert main(argv) == 1
-    msg = _one_line(capsys)
+    msg = one_line()
     target = "chunk-000003.parquet" if where == "chunk" else "x.parquet"
     assert target in msg and "No space left on device" in msg
     assert "is intact" in msg and "--resume" in msg
@@ -286,7 +283,9 @@ def test_live_lock_is_respected_and_a_sigkilled_holder_blocks_nothing(tmp_path, 
     assert not os.path.exists(lock)
 
 
-def test_a_full_disk_at_the_lock_leaves_nothing_that_blocks(tmp_path, monkeypatch, capsys):
+def test_a_full_disk_at_the_lock_leaves_nothing_that_blocks(
+    tmp_path, monkeypatch, capsys, one_line
+):
     out = tmp_path / "x.parquet"
 
     def full(*args):
@@ -296,7 +295,7 @@ def test_a_full_disk_at_the_lock_leaves_nothing_that_blocks(tmp_path, monkeypatc
         m.setattr(os, "pwrite", full)
         rc = main(["simulate", "ring:30", "-n", "200", "--out", str(out)])
         assert rc == 1
-        err = _one_line(capsys)
+        err = one_line()
         assert f"cannot write the lock file {out}.lock" in err and "No space left" in err
     run_from_spec(out=out, progress=False, **SPEC)
     assert len(read_catalog(out).events) == EVENTS
