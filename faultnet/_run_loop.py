@@ -19,6 +19,7 @@ from __future__ import annotations
 import contextlib
 import os
 import shutil
+import sys
 import time
 from dataclasses import dataclass, field
 
@@ -272,6 +273,10 @@ def run_loop(*, model, n_events, out, wd, identity, seq, options, chunk_events, 
     first_md, created = _open_run(wd, identity, extra)
     sink = _Catalog(wd, first_md, ck.rows)
     sim = _simulator(model, seq, options, ck, first_md, wd)
+    if progress is not False and sim.compiles:  # a pause of seconds that must not look hung
+        from faultnet.engine import COMPILING_LABEL
+
+        tqdm.write(COMPILING_LABEL, file=sys.stderr)
     bar = tqdm(total=n_events, initial=ck.rows, unit="ev", desc=desc or model.params["graph"],
                disable=(None if progress is None else not progress), dynamic_ncols=True,
                smoothing=0.1)  # fmt: skip

@@ -243,6 +243,13 @@ class Simulator:
         events = events_frame(ev0, cat_f, cat_i, self._model.nodes)
         return wrap_result(self._model, arr, self.state, self._dt, events, md, record_profiles)
 
+    @property
+    def compiles(self) -> bool:
+        """True if the next :meth:`advance` compiles the kernel (no disk cache for it yet, and
+        not yet used in this process): it then takes :data:`COMPILING_LABEL`'s seconds."""
+        kernel = self._arrays.kernel
+        return not getattr(kernel, "signatures", True) and _kernels().is_cold(kernel)
+
     def _loop(self, n_events, ev0, cat_f, cat_i, progress):
         """Call the entry kernel in chunks sized to ~0.1-0.5 s; return wall time and work.
 

@@ -325,3 +325,19 @@ def test_simulate_default_transient_of_a_short_run_is_half_of_it(capsys):
     text = capsys.readouterr().out
     assert "the first half of the run (150 events) is left out" in text
     assert "after a transient of 150" in text
+
+
+def test_the_first_run_says_once_on_stderr_that_it_compiles(monkeypatch, capsys):
+    """Not a progress bar that looks hung for seconds: one line, on a terminal or not."""
+    from faultnet import engine
+
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
+    sim = engine.Simulator(model, rng=1)
+    sim.advance(2, progress=False)
+    assert not sim.compiles  # compiled (or loaded) in this process
+    monkeypatch.setattr(engine.Simulator, "compiles", property(lambda self: True))
+    assert main(["simulate", "ring:10", "-n", "50"]) == 0
+    err = capsys.readouterr().err
+    assert err.count(engine.COMPILING_LABEL) == 1 and "Traceback" not in err
+    assert main(["simulate", "ring:10", "-n", "50", "--no-progress"]) == 0
+    assert engine.COMPILING_LABEL not in capsys.readouterr().err
