@@ -15,6 +15,7 @@ __all__ = [
     "ConfigError",
     "EventTooLongError",
     "FaultnetError",
+    "FitWarning",
     "GraphSpecError",
     "InvalidParameterError",
     "NumericalInstabilityError",
@@ -76,3 +77,9 @@ class SweepError(FaultnetError, RuntimeError):
 class AccuracyWarning(UserWarning):
     """A run whose accuracy faultnet cannot vouch for (for example ``rtol`` outside the
     parameters its calibration was measured at)."""
+
+
+class FitWarning(UserWarning):
+    """A fit returned numbers that do not pin its model down: a parameter at its search bound,
+    one larger than its window, or an error larger than the value (the numbers are returned
+    all the same)."""

@@ -17,11 +17,12 @@ negative Hessian of ``ln L``).  :func:`sample_omori` draws a sequence with known
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from faultnet.exceptions import InvalidParameterError
+from faultnet.exceptions import FitWarning, InvalidParameterError
 
 __all__ = ["OmoriFit", "fit_omori", "omori_integral", "sample_omori"]
 
@@ -133,6 +134,28 @@ def _hessian(f, x, h=1e-4):
     return hess
 
 
+def _warn_if_unresolved(p, c, c_err, p_bounds, log_c_bounds, span):
+    """A :class:`~faultnet.exceptions.FitWarning` for each way the fit fails to find a decay."""
+    problems = []
+    if min(abs(p - b) for b in p_bounds) < 1e-6:
+        problems.append(f"p = {p:.3g} is at its search bound {p_bounds} (no maximum inside)")
+    elif p <= 0:
+        problems.append(f"p = {p:.3g} <= 0: the rate does not decay in this window")
+    if min(abs(math.log(c) - b) for b in log_c_bounds) < 1e-6:
+        problems.append(f"c = {c:.3g} is at its search bound")
+    elif c > span:
+        problems.append(f"c = {c:.3g} is longer than the window ({span:.3g})")
+    if not c_err < c:
+        problems.append(f"c is unresolved (its error {c_err:.3g} is not below c = {c:.3g})")
+    if problems:
+        warnings.warn(
+            "fit_omori does not pin the decay down: " + "; ".join(problems) + ". Try a "
+            "longer window, more sequences, or check that the events follow a mainshock",
+            FitWarning,
+            stacklevel=3,
+        )
+
+
 def fit_omori(times, t_start, t_end, n_sequences=1, p_bounds=(-3.0, 5.0)):
     """Maximum-likelihood Omori-Utsu fit ``K / (t + c)^p`` on ``[t_start, t_end]``.
 
@@ -164,6 +187,13 @@ def fit_omori(times, t_start, t_end, n_sequences=1, p_bounds=(-3.0, 5.0)):
     ------
     InvalidParameterError
         For a bad window, ``n_sequences < 1`` or fewer than 10 events inside.
+
+    Warns
+    -----
+    FitWarning
+        When the fit finds no decay to trust: ``p`` at a search bound or ``p <= 0``, ``c``
+        at a bound or longer than the window, or ``c``'s error not below ``c``.  The numbers
+        are returned all the same.
 
     Examples
     --------
@@ -217,6 +247,7 @@ def fit_omori(times, t_start, t_end, n_sequences=1, p_bounds=(-3.0, 5.0)):
     except np.linalg.LinAlgError:
         se = np.full(3, np.nan)
     k_seq = K_total / n_sequences
+    _warn_if_unresolved(p, c, float(c * se[1]), p_bounds, (lc_lo, lc_hi), span)
     return OmoriFit(
         K=k_seq,
         c=c,

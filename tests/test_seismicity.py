@@ -11,6 +11,7 @@ from __future__ import annotations
 import doctest
 import importlib
 import math
+import warnings
 
 import numpy as np
 import pandas as pd
@@ -128,8 +129,11 @@ def test_omori_fit_of_stacked_sequences_and_a_late_window():
     assert abs(fit.K - K) < 3 * fit.K_err and abs(fit.p - p) < 3 * fit.p_err
     assert fit.expected() == pytest.approx(fit.n, rel=1e-6)  # MLE: expected = observed
     assert fit.rate(1.0) == pytest.approx(10 * fit.K / (1 + fit.c) ** fit.p)
-    # a window away from t = 0 (c matters less; p still recovered)
-    late = fs.fit_omori(fs.sample_omori(500.0, 0.1, 1.0, 1.0, 100.0, rng=3), 1.0, 100.0)
+    # a window away from t = 0 (c matters less; p still recovered, c said to be unresolved)
+    late_times = fs.sample_omori(500.0, 0.1, 1.0, 1.0, 100.0, rng=3)
+    with pytest.warns(faultnet.exceptions.FitWarning, match=r"c is unresolved") as seen:
+        late = fs.fit_omori(late_times, 1.0, 100.0)
+    assert "p =" not in str(seen[0].message)  # p is resolved
     assert abs(late.p - 1.0) < 3 * late.p_err
 
 
@@ -381,3 +385,19 @@ def test_seismostats_catalog_and_quakeml_round_trip(ring_result, tmp_path):
     )
     with pytest.raises(InvalidParameterError, match="magnitude must be"):
         fs.to_seismostats(first, magnitude="richter")
+
+
+def test_fit_omori_warns_when_it_finds_no_decay():
+    """A flat rate: p <= 0 or at its bound, c unresolved; warned, and the numbers returned."""
+    from faultnet.exceptions import FitWarning
+
+    flat = np.sort(np.random.default_rng(1).uniform(1e-4, 0.5, 60))
+    with pytest.warns(FitWarning, match=r"does not pin the decay down: p = .*(<= 0|search bound)"):
+        fit = fs.fit_omori(flat, 1e-4, 0.5, n_sequences=28)
+    assert fit.p <= 0 and fit.n == 60 and np.isfinite(fit.K)
+    # a real decay gives no warning
+    t = fs.sample_omori(K=40.0, c=0.05, p=1.1, t_start=0.0, t_end=100.0, rng=7)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", FitWarning)
+        fit = fs.fit_omori(t, 0.0, 100.0)
+    assert abs(fit.p - 1.1) < 3 * fit.p_err and fit.c_err < fit.c
