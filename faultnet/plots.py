@@ -65,7 +65,7 @@ def plot_magnitude_distribution(M_or_table, fit=None, ax=None, label=None, bins=
     -------
     matplotlib.axes.Axes
     """
-    from faultnet.stats import magnitude_distribution
+    from faultnet.stats import format_pm, magnitude_distribution
 
     ax = _axes(ax)
     table = M_or_table
@@ -98,7 +98,7 @@ def plot_magnitude_distribution(M_or_table, fit=None, ax=None, label=None, bins=
                 mass / integral * np.exp(-fit.b * m),
                 linestyle="--",
                 color=line.get_color(),
-                label=f"b = {fit.b:.2f} ± {fit.b_err:.2f}",
+                label=f"b = {format_pm(fit.b, fit.b_err, decimals=2)}",
             )
     ax.set_yscale("log")
     ax.set_xlabel("M = ln S")

@@ -46,7 +46,7 @@ from faultnet.mainshocks import (
     stack_mainshocks,
 )
 from faultnet.omori import OmoriFit, fit_omori, sample_omori
-from faultnet.stats import fit_b_mle
+from faultnet.stats import fit_b_mle, format_pm
 
 __all__ = [
     "Geometry",
@@ -133,6 +133,14 @@ class Recurrence:
     cv: float
     cv_err: float
     n: int
+
+    def __repr__(self):
+        return (
+            f"Recurrence(n={self.n} intervals, mean={self.mean:.4g}, std={self.std:.4g}, "
+            f"cv={format_pm(self.cv, self.cv_err, pm=' +/- ')})"
+        )
+
+    __str__ = __repr__
 
 
 def _cv_and_error(x):

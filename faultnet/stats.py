@@ -43,10 +43,29 @@ import pandas as pd
 from faultnet.exceptions import InvalidParameterError
 from faultnet.model import CarlsonLanger
 
-__all__ = ["BFit", "fit_b_lsq", "fit_b_mle", "irregularity", "magnitude_distribution"]
+__all__ = [
+    "BFit",
+    "fit_b_lsq",
+    "fit_b_mle",
+    "format_pm",
+    "irregularity",
+    "magnitude_distribution",
+]
 
 _DEFAULT_BINS = 50
 _CHUNK_VALUES = 4_000_000  # |x_i - x_j| values held at once by irregularity()
+
+
+def format_pm(value, err, decimals=3, pm=" ± "):
+    """``value`` and its error ``err`` with ``decimals`` decimals, or as many more as show
+    the error's first digit (never "± 0.000").
+
+    >>> format_pm(0.4621, 0.0083), format_pm(0.46213, 0.00031), format_pm(1.0, float("nan"))
+    ('0.462 ± 0.008', '0.4621 ± 0.0003', '1.000 ± nan')
+    """
+    if math.isfinite(err) and err > 0:
+        decimals = max(decimals, -math.floor(math.log10(err)))
+    return f"{value:.{decimals}f}{pm}{err:.{decimals}f}"
 
 
 def profiles_of(x, name):
@@ -116,7 +135,7 @@ class BFit:
 
     def __str__(self):
         return (
-            f"b = {self.b:.3f} +/- {self.b_err:.3f} ({self.method}, "
+            f"b = {format_pm(self.b, self.b_err, pm=' +/- ')} ({self.method}, "
             f"M in [{self.m_min:.3g}, {self.m_max:.3g}], n = {self.n})"
         )
 

@@ -256,12 +256,12 @@ def format_stats(md, st) -> str:
     if st.get("fit_step", 1) > 1:
         fit_on += f", every {st['fit_step']}th"
     lines.append(
-        f"b (MLE)     {_fmt(st['b_mle'])} ± {_fmt(st['b_mle_err'])} for M >= {_fmt(st['m_min'])} "
+        f"b (MLE)     {stats.format_pm(st['b_mle'], st['b_mle_err'])} for M >= {_fmt(st['m_min'])} "
         f"(n = {st['n_fit']:,}; {fit_on})"
     )
     window = f" ({st['window']})" if st.get("window") else ""
     lines.append(
-        f"b (LSQ)     {_fmt(st['b_lsq'])} ± {_fmt(st['b_lsq_err'])} on "
+        f"b (LSQ)     {stats.format_pm(st['b_lsq'], st['b_lsq_err'])} on "
         f"[{_fmt(st['m_min'])}, {_fmt(st['m_max'])}]{window}"
     )
     if st.get("fit_note"):

@@ -401,3 +401,10 @@ def test_fit_omori_warns_when_it_finds_no_decay():
         warnings.simplefilter("error", FitWarning)
         fit = fs.fit_omori(t, 0.0, 100.0)
     assert abs(fit.p - 1.1) < 3 * fit.p_err and fit.c_err < fit.c
+
+
+def test_recurrence_prints_its_summary_not_its_intervals(ring_result):
+    rec = fs.recurrence(ring_result.events, m_min=float(np.quantile(ring_result.events["M"], 0.5)))
+    text = str(rec)
+    assert rec.n > 20 and len(text) < 120 and text == repr(rec)
+    assert f"n={rec.n} intervals" in text and "cv=" in text

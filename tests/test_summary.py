@@ -80,3 +80,15 @@ def test_text_summary(chunked, tmp_path):
         fio.Catalog(events=res.events).summary()
     with pytest.raises(CatalogError, match="does not exist"):
         catalog_stats(tmp_path / "missing.parquet")
+
+
+def test_a_small_error_is_never_printed_as_zero():
+    from faultnet.summary import format_stats
+
+    st = {
+        "events": 10**7, "transient": 0, "events_fit": 10**7, "t_first": 0.0, "t_last": 1.0,
+        "M_min": -7.0, "M_max": 4.0, "largest_n_blocks": 9, "n_fit": 10**7, "m_min": -6.9,
+        "m_max": 3.0, "b_mle": 0.46213, "b_mle_err": 0.00031, "b_lsq": 0.5, "b_lsq_err": 0.004,
+    }  # fmt: skip
+    text = format_stats({}, st)
+    assert "0.4621 ± 0.0003" in text and "0.500 ± 0.004" in text and "± 0.000 " not in text
