@@ -68,8 +68,11 @@ def plot_interevent_times(theta, ax=None, bins=None, label=None, poisson=True, *
     kw.setdefault("marker", "o")
     kw.setdefault("markersize", 3)
     ax.plot(centre, np.where(counts > 0, density, np.nan), label=label, **kw)
-    if poisson:
+    if poisson:  # drawn down to a tenth of the lowest density shown, not to exp(-100)
+        shown = density[counts > 0]
+        floor = shown.min() / 10.0 if shown.size else 1e-6
         x = np.logspace(np.log10(edges[0]), np.log10(edges[-1]), 200)
+        x = x[np.exp(-x) >= floor]
         ax.plot(x, np.exp(-x), "k--", lw=1, label="Poisson: exp(-theta)")
     ax.set_xscale("log")
     ax.set_yscale("log")

@@ -161,3 +161,15 @@ def test_plots_take_results_and_name_wrong_tables():
     sparse = faultnet.graphs.square_lattice(5, 5, sparse=True)
     with pytest.raises(TypeError, match="SparseGraph, which has no node positions"):
         plots.plot_graph(faultnet.CarlsonLanger(sparse))
+
+
+def test_interevent_times_axis_stays_near_the_data():
+    """The Poisson line exp(-theta) is not drawn down to exp(-100) ~ 1e-44."""
+    from faultnet.seismicity_plots import plot_interevent_times
+
+    theta = np.random.default_rng(3).exponential(1.0, 5000)
+    ax = plot_interevent_times(theta)
+    ax.figure.canvas.draw()
+    lowest = min(np.nanmin(line.get_ydata()[line.get_ydata() > 0]) for line in ax.get_lines())
+    assert ax.get_ylim()[0] > 1e-8 and lowest >= 1e-8
+    plt.close(ax.figure)
