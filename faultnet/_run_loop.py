@@ -313,5 +313,5 @@ def _merge(wd, ck, out, md):
     ck_path = os.path.join(wd, "checkpoint.npz")
     verify_chunks(wd, ck)  # checksums and event numbers of every chunk before the merge
     with _write_failure(out, ck_path, ck.rows, what="merge the chunks into"):
-        merge_parts(chunks, out, md, overwrite=True)
+        merge_parts(chunks, out, md, overwrite=True, state=ck.state)
     remove_checkpoint_dir(wd)

@@ -9,6 +9,7 @@ from ``n_events``, event numbers with gaps or duplicates.
 
 from __future__ import annotations
 
+import io
 import json
 import os
 
@@ -17,6 +18,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from faultnet.exceptions import CatalogError
+from faultnet.state import State
 
 __all__ = [
     "METADATA_KEY",
@@ -27,11 +29,15 @@ __all__ = [
     "is_catalog_file",
     "open_catalog_file",
     "read_metadata",
+    "read_state",
+    "state_bytes",
     "verify_catalog",
 ]
 
 #: the key of the run's metadata (JSON) in the Parquet schema metadata
 METADATA_KEY = b"faultnet"
+#: the key of the state after the last event (an ``.npz``), from which a run continues
+STATE_KEY = b"faultnet_state"
 
 #: metadata keys that must hold integers, and those that must hold numbers (or null)
 _INT_KEYS = ("n_events", "first_event", "transient", "n_blocks", "runs", "chunk_events")
@@ -159,3 +165,46 @@ def verify_catalog(path) -> dict:
             raise
         raise CatalogError(f"cannot read catalog {path}: {exc}") from exc
     return md
+
+
+def state_bytes(state) -> bytes:
+    """The ``.npz`` bytes of a :class:`~faultnet.state.State`, stored under :data:`STATE_KEY`."""
+    buf = io.BytesIO()
+    np.savez(
+        buf,
+        z=np.asarray(state.z, dtype=np.float64),
+        offset=np.float64(state.offset),
+        w=np.float64(state.w),
+        n_events=np.int64(state.n_events),
+    )
+    return buf.getvalue()
+
+
+def read_state(path) -> State:
+    """The state after the last event of catalog ``path``: continuing from it extends the run
+    exactly as one longer run would have gone on."""
+    path = _check_catalog_file(path)
+    schema, md = _file_metadata(path)
+    raw = schema.metadata.get(STATE_KEY)
+    if raw is None:
+        raise CatalogError(
+            f"catalog {path} holds no final state (it was written without one, by an older "
+            "faultnet or from a table of events), so it cannot be continued"
+        )
+    try:
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
+            state = State(
+                z=data["z"].copy(),
+                offset=float(data["offset"]),
+                w=float(data["w"]),
+                n_events=int(data["n_events"]),
+            )
+    except (OSError, ValueError, KeyError, EOFError) as exc:
+        raise CatalogError(f"catalog {path}: its final state is garbled ({exc})") from None
+    want = int(md.get("first_event") or 0) + int(md.get("n_events", state.n_events))
+    if state.n_events != want:
+        raise CatalogError(
+            f"catalog {path}: its final state follows event {state.n_events - 1}, but the "
+            f"catalog ends at event {want - 1}"
+        )
+    return state

@@ -47,12 +47,16 @@ def cmd_simulate(args, out):
     from faultnet.spec_run import run_from_spec
     from faultnet.summary import catalog_stats, format_stats
 
-    if args.graph is None and not args.resume:
+    stored = args.resume or args.extend  # the graph and parameters come from --out
+    if args.graph is None and not stored:
         raise InvalidParameterError("GRAPH is required (e.g. ring:200); see faultnet simulate -h")
     if args.events is None and not args.resume:
-        raise InvalidParameterError("--events N is required")
-    if args.out is None and args.resume:
-        raise InvalidParameterError("--resume needs --out FILE: the catalog to continue")
+        raise InvalidParameterError(
+            "--events N is required" + (" (the total to extend to)" if args.extend else "")
+        )
+    if args.out is None and stored:
+        flag = "--continue" if args.extend else "--resume"
+        raise InvalidParameterError(f"{flag} needs --out FILE: the catalog to continue")
     if args.out is not None:
         check_catalog_path(args.out, "--out")
     tic = time.perf_counter()
@@ -70,6 +74,7 @@ def cmd_simulate(args, out):
         checkpoint_interval=args.checkpoint_every,
         transient=args.transient,
         resume=args.resume,
+        extend=args.extend,
         force=args.force,
         progress=args.progress,
     )

@@ -78,6 +78,7 @@ examples:
   faultnet simulate ring:2000 --alpha 2 --events 1e6 --seed 1 --out ring.parquet
   faultnet simulate percolation:square:150x150:p=0.5927 --events 1e6 --out perc.parquet
   faultnet simulate --resume --out ring.parquet      # continue a killed run
+  faultnet simulate --continue --out ring.parquet -n 200000   # extend a finished run
 """
 
 INFO_HELP = """\
@@ -210,6 +211,12 @@ def _output_flags(p):
     )
     p.add_argument(
         "--resume", action="store_true", help="continue the interrupted run of --out (or start it)"
+    )
+    p.add_argument(
+        "--continue",
+        dest="extend",
+        action="store_true",
+        help="extend the finished catalog --out to --events N events (as one longer run)",
     )
     p.add_argument(
         "--force", action="store_true", help="replace an existing --out or discard its checkpoint"

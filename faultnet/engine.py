@@ -62,10 +62,11 @@ class Simulator:
     Parameters
     ----------
     model : CarlsonLanger
-    x0 : array_like, State, SimulationResult or None
-        Initial displacements (plate at u = 0), or a ``State`` / previous
-        result to continue from exactly (the plate position and the event
-        numbering carry over).  None draws ``x0`` uniformly from [0, 0.01)
+    x0 : array_like, State, SimulationResult, Catalog, path or None
+        Initial displacements (plate at u = 0), or a ``State``, previous
+        result or catalog (read, or its path) to continue from exactly (the plate
+        position and the event numbering carry over; a catalog of another graph or
+        other parameters is refused).  None draws ``x0`` uniformly from [0, 0.01)
         with ``rng``.
     rng : None, int, SeedSequence or Generator
         Randomness for the initial state (SPEC 7); its SeedSequence is
@@ -338,11 +339,12 @@ def simulate(
     model : CarlsonLanger
     n_events : int
         Number of events (> 0).
-    x0 : array_like, State, SimulationResult or None
+    x0 : array_like, State, SimulationResult, Catalog, path or None
         Initial displacements (plate at u = 0), or a ``State`` / previous
         result to continue from exactly (the plate position and the event
-        numbering carry over; the model may differ, e.g. a new alpha).  None
-        draws ``x0`` uniformly from [0, 0.01) with ``rng``.
+        numbering carry over; the model may differ, e.g. a new alpha), or a
+        catalog (read, or its path) to continue with the model it was run on.
+        None draws ``x0`` uniformly from [0, 0.01) with ``rng``.
     rng : None, int, SeedSequence or Generator
         Randomness for the initial state (SPEC 7); its SeedSequence entropy is
         recorded in ``metadata``.

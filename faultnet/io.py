@@ -51,6 +51,7 @@ from faultnet.atomic import (
 )
 from faultnet.catalog_check import (
     METADATA_KEY,
+    STATE_KEY,
     STATS_COLUMNS,
     check_event_count,
     check_event_numbers,
@@ -58,6 +59,8 @@ from faultnet.catalog_check import (
     is_catalog_file,
     open_catalog_file,
     read_metadata,
+    read_state,
+    state_bytes,
     verify_catalog,
 )
 from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
@@ -88,6 +91,7 @@ __all__ = [
     "provenance",
     "read_catalog",
     "read_metadata",
+    "read_state",
     "tmp_name",
     "utc_now",
     "verify_catalog",
@@ -190,7 +194,7 @@ def _plain_labels(typ):
     return pa.types.is_integer(typ) or pa.types.is_string(typ) or pa.types.is_large_string(typ)
 
 
-def events_to_table(events, metadata=None) -> pa.Table:
+def events_to_table(events, metadata=None, state=None) -> pa.Table:
     """Arrow table of an events DataFrame, with ``metadata`` in the schema.
 
     Node labels that Parquet cannot hold as one column type (tuples, mixed
@@ -217,19 +221,23 @@ def events_to_table(events, metadata=None) -> pa.Table:
         md["hypocenter_labels"] = "repr"
     schema_md = dict(table.schema.metadata or {})
     schema_md[METADATA_KEY] = _encode_metadata(md)
+    if state is not None:
+        schema_md[STATE_KEY] = state_bytes(state)
     return table.replace_schema_metadata(schema_md)
 
 
-def write_part(events, path, metadata=None, *, overwrite=True):
-    """Write one events DataFrame to ``path`` as a Parquet file, atomically."""
-    table = events_to_table(events, metadata)
+def write_part(events, path, metadata=None, *, overwrite=True, state=None):
+    """Write one events DataFrame to ``path`` as a Parquet file, atomically (with the ``state``
+    after its last event, where given)."""
+    table = events_to_table(events, metadata, state)
     with atomic_path(path, overwrite=overwrite) as tmp:
         pq.write_table(table, tmp, **_parquet_options(table.schema))
     return os.fspath(path)
 
 
-def merge_parts(parts, out, metadata, *, overwrite=False):
-    """Join part files into one catalog at ``out``, one part in memory at a time.
+def merge_parts(parts, out, metadata, *, overwrite=False, state=None):
+    """Join part files into one catalog at ``out``, one part in memory at a time (with the
+    ``state`` after the last event, where given).
 
     The result is written to a temporary file and renamed onto ``out``, so a
     kill during the merge leaves ``out`` as it was.
@@ -238,7 +246,8 @@ def merge_parts(parts, out, metadata, *, overwrite=False):
     if not parts:
         raise InvalidParameterError("merge_parts needs at least one part file")
     first = pq.read_schema(parts[0])
-    schema_md = {k: v for k, v in (first.metadata or {}).items() if k != METADATA_KEY}
+    own = (METADATA_KEY, STATE_KEY)
+    schema_md = {k: v for k, v in (first.metadata or {}).items() if k not in own}
     part_md = (
         decode_metadata(first.metadata[METADATA_KEY])
         if first.metadata and METADATA_KEY in first.metadata
@@ -248,6 +257,8 @@ def merge_parts(parts, out, metadata, *, overwrite=False):
     if "hypocenter_labels" in part_md:
         md["hypocenter_labels"] = part_md["hypocenter_labels"]
     schema_md[METADATA_KEY] = _encode_metadata(md)
+    if state is not None:
+        schema_md[STATE_KEY] = state_bytes(state)
     schema = first.with_metadata(schema_md)
     with atomic_path(out, overwrite=overwrite) as tmp:
         with pq.ParquetWriter(tmp, schema, **_parquet_options(schema)) as writer:
@@ -273,6 +284,14 @@ class Catalog:
 
     def __len__(self):
         return len(self.events)
+
+    @property
+    def state(self):
+        """The :class:`~faultnet.state.State` after the last event, read from the file: pass
+        the catalog (or its path) as ``x0`` to continue the run."""
+        if not self.path:
+            raise CatalogError("state needs a catalog read from a file")
+        return read_state(self.path)
 
     def summary(self, transient=None) -> str:
         """Parameters, events and b-values of the catalog file.
@@ -347,10 +366,10 @@ def write_catalog(obj, path, metadata=None, *, overwrite=False):
         spec = obj.model.graph.graph.get("spec")
         if spec:
             md.setdefault("graph_spec", spec)
-        events = obj.events
+        events, state = obj.events, obj.state
     else:
-        md, events = {}, obj
+        md, events, state = {}, obj, None
     md.setdefault("provenance", provenance())
     md.setdefault("created", utc_now())
     md.update(metadata or {})
-    return write_part(events, path, md, overwrite=overwrite)
+    return write_part(events, path, md, overwrite=overwrite, state=state)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import contextlib
 import gc
+import os
 
 import numpy as np
 
@@ -154,10 +155,29 @@ def _kernels():
     return _kernels
 
 
+def _catalog_state(model, x0):
+    """The final state of a catalog (a path or a read catalog) run on ``model``'s graph."""
+    from faultnet.catalog_check import read_metadata, read_state
+    from faultnet.specs import graph_hash
+
+    path = os.fspath(x0 if isinstance(x0, (str, os.PathLike)) else x0.path)
+    state, stored = read_state(path), read_metadata(path).get("graph_hash")
+    if stored is not None and stored != graph_hash(model):
+        raise InvalidParameterError(
+            f"x0: catalog {path} was run on another graph or other parameters (graph hash "
+            f"{stored[:12]}..., this model's {graph_hash(model)[:12]}...); continue it with "
+            "the model it was run on"
+        )
+    return state
+
+
 def initial_state(model, x0, rng):
-    """``(State, SeedSequence or None)`` from ``x0`` (array, State, result) or from ``rng``."""
+    """``(State, SeedSequence or None)`` from ``x0`` (array, State, result, catalog or its
+    path) or from ``rng``."""
     if isinstance(x0, SimulationResult):
         x0 = x0.state
+    elif isinstance(x0, (str, os.PathLike)) or (hasattr(x0, "path") and hasattr(x0, "events")):
+        x0 = _catalog_state(model, x0)
     if isinstance(x0, State):
         z = _real_array("x0.z", x0.z)
         if z.shape != (model.n,):

@@ -24,24 +24,32 @@ True
 from __future__ import annotations
 
 import os
+import shutil
 
 import numpy as np
 
 from faultnet._run_loop import RunReport, run_loop
 from faultnet._validate import check_int, check_memory, seed_sequence
+from faultnet.atomic import atomic_write_json
 from faultnet.checkpoint import (
     CHECKPOINT_SUFFIX,
+    IDENTITY,
+    RUN_FORMAT,
+    Checkpoint,
     checkpoint_dir,
     checkpoint_status,
+    chunk_path,
     discard_tmp_outputs,
     mismatch,
     prepare_resume,
     read_run_json,
     remove_checkpoint_dir,
     run_identity,
+    save_checkpoint,
+    sha256_file,
 )
 from faultnet.exceptions import InvalidParameterError, OutputExistsError
-from faultnet.io import check_catalog_path, read_metadata, verify_catalog
+from faultnet.io import check_catalog_path, read_metadata, read_state, verify_catalog
 from faultnet.lock import LOCK_SUFFIX, output_lock
 
 __all__ = [
@@ -66,6 +74,7 @@ def simulate_to_parquet(
     checkpoint_interval=60.0,
     resume=False,
     force=False,
+    extend=False,
     progress=None,
     transient=0,
     metadata=None,
@@ -98,6 +107,11 @@ def simulate_to_parquet(
         Continue from ``out``'s checkpoint if there is one (else start).
     force : bool
         Discard an existing checkpoint or replace an existing ``out``.
+    extend : bool
+        ``out`` is a finished catalog of fewer than ``n_events`` events (run on ``model``):
+        continue it from its final state to ``n_events``.  The catalog equals one run of
+        ``n_events``, bit for bit; ``out`` keeps the shorter catalog until the longer one
+        replaces it, and a killed extension resumes with ``resume=True`` (or ``extend``).
     progress : bool or None
         Progress bar with events and plate time (None: on a terminal).
     transient : int or None
@@ -139,6 +153,8 @@ def simulate_to_parquet(
     if os.path.isdir(out):
         raise OutputExistsError(f"{out} is a folder; give a file name for the catalog")
     with output_lock(out + LOCK_SUFFIX, what=out):
+        if extend:
+            resume = _prepare_extension(out, wd, job["n_events"])
         return _start_or_resume(out, wd, rng, resume, force, step, job)
 
 
@@ -179,7 +195,8 @@ def _start_or_resume(out, wd, rng, resume, force, step, job):
             )
     seq = seed_sequence(rng)
     identity = run_identity(model, n_events, step, options, seq)
-    if os.path.exists(out):
+    extending = resume and not force and os.path.isdir(wd) and _checkpoint_is(wd, identity)
+    if os.path.exists(out) and not extending:
         if resume and not force:
             done = _complete_output(out, identity)
             if os.path.isdir(wd):
@@ -206,6 +223,43 @@ def _start_or_resume(out, wd, rng, resume, force, step, job):
                 "resume=True to continue it, or --force / force=True to discard it"
             )
     return run_loop(out=out, wd=wd, seq=seq, resume_point=resume_point, identity=identity, **job)
+
+
+def _checkpoint_is(wd, identity):
+    """True if the checkpoint folder ``wd`` is of the run ``identity`` (an extension of a
+    finished ``out`` in progress, or a run killed between its merge and its clean-up)."""
+    run_json = os.path.join(wd, "run.json")
+    return os.path.isfile(run_json) and not mismatch(read_run_json(run_json), identity)
+
+
+def _prepare_extension(out, wd, n_events):
+    """Turn the finished catalog ``out`` into the first committed chunk of a run of
+    ``n_events``; return True (the run then resumes).  ``out`` itself stays as it is."""
+    if os.path.isdir(wd):
+        return True  # an extension (or a run) in progress: resume checks it is this one
+    md = verify_catalog(out)
+    state = read_state(out)
+    if md["n_events"] >= n_events:
+        raise InvalidParameterError(
+            f"{out} already holds {md['n_events']:,} events; extend it to more than that"
+        )
+    os.makedirs(wd)
+    chunk = chunk_path(wd, 0)
+    try:
+        os.link(out, chunk)  # the same bytes, no copy (the output is replaced, never edited)
+    except OSError:
+        shutil.copyfile(out, chunk)
+    identity = {key: md[key] for key in IDENTITY} | {"n_events": int(n_events)}
+    extra = {key: md[key] for key in ("request", "sweep_point") if key in md}
+    if "request" in extra:
+        extra["request"] = dict(extra["request"], n_events=int(n_events))
+    run = dict(identity, format=RUN_FORMAT, created=md.get("created"), extra=extra)
+    run["initial_state"] = md.get("initial_state", "given")
+    atomic_write_json(os.path.join(wd, "run.json"), run)
+    counters = {key: md.get(key, 0) for key in ("wall_time_s", "n_steps", "block_steps", "runs")}
+    ck = Checkpoint(state, md["n_events"], 1, counters, [sha256_file(chunk)])
+    save_checkpoint(os.path.join(wd, "checkpoint.npz"), ck)  # the commit point
+    return True
 
 
 def stored_request(out):

@@ -50,6 +50,7 @@ def run_from_spec(
     transient=0,
     resume=False,
     force=False,
+    extend=False,
     progress=None,
     extra=None,
     on_commit=None,
@@ -73,7 +74,7 @@ def run_from_spec(
         Seed of the run (and of a random graph); None on ``resume`` takes the stored one.
     extra : dict, optional
         More metadata for ``run.json`` and the catalog, next to ``request``.
-    chunk_events, checkpoint_interval, transient, resume, force, progress, on_commit
+    chunk_events, checkpoint_interval, transient, resume, force, extend, progress, on_commit
         As for :func:`~faultnet.runner.simulate_to_parquet`.
 
     Returns
@@ -89,9 +90,9 @@ def run_from_spec(
     from faultnet.specs import build_model
 
     given = dict(zip(_REQUEST_KEYS, (graph, n_events, k, sigma, alpha, dt, transient), strict=True))
-    stored = _stored(out, resume, force)
+    stored = _stored(out, resume or extend, force)
     if stored is not None:
-        options, seed = _take_stored(given, options, seed, stored, out)
+        options, seed = _take_stored(given, options, seed, stored, out, extend)
     if given["graph"] is None:
         raise InvalidParameterError("a graph spec is required (e.g. ring:200)")
     if given["n_events"] is None:
@@ -114,6 +115,7 @@ def run_from_spec(
         chunk_events=chunk_events,
         checkpoint_interval=checkpoint_interval,
         resume=resume,
+        extend=extend,
         force=force,
         progress=progress,
         transient=given["transient"],
@@ -134,10 +136,11 @@ def _stored(out, resume, force):
     return None
 
 
-def _take_stored(given, options, seed, stored, out):
+def _take_stored(given, options, seed, stored, out, extend=False):
     """Fill ``given`` from the stored request; return the options and seed to run with.
 
-    A value given that differs from the stored one is refused (transient may change).
+    A value given that differs from the stored one is refused (transient may change, and
+    the number of events when the run is extended).
     """
     request = dict(stored.get("extra", {}).get("request") or stored.get("request") or {})
     conflicts = [
@@ -147,6 +150,7 @@ def _take_stored(given, options, seed, stored, out):
         and key in request
         and request[key] is not None
         and key != "transient"
+        and not (extend and key == "n_events")
         and _differs(key, request[key], value)
     ]
     if conflicts:

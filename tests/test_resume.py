@@ -231,3 +231,59 @@ def test_checkpoint_with_the_former_counter_name_loads(tmp_path):
     fields["sessions"] = fields.pop("runs")
     np.savez(path, **fields)
     assert load_checkpoint(path).counters["runs"] == 3
+
+
+# ------------------------------------------------------------ extending a finished catalog
+
+
+def test_a_finished_catalog_is_extended_as_one_longer_run(tmp_path, small, capsys):
+    model, ref = small
+    out = tmp_path / "x.parquet"
+    simulate_to_parquet(
+        model, 1000, out, rng=5, chunk_events=250, checkpoint_interval=0, progress=False
+    )
+    short = read_catalog(out)
+    # in memory: x0 is the catalog (or its path)
+    more = faultnet.simulate(model, 2000, x0=out, progress=False)
+    joined = pd.concat([short.events, more.events], ignore_index=True)
+    pd.testing.assert_frame_equal(joined, ref.events, check_exact=True)
+    assert more.events["event"].iloc[0] == 1000
+    # on disk: the file itself grows to 3000 events, killed once on the way
+    with pytest.raises(Crash):
+        _run(model, out, extend=True, on_commit=_crash_after(2))
+    assert len(read_catalog(out).events) == 1000  # the shorter catalog is kept meanwhile
+    report = _run(model, out, extend=True)
+    assert report.status == "resumed" and report.resumed_from > 1000
+    pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
+    assert sorted(os.listdir(tmp_path)) == ["x.parquet"]
+    assert read_catalog(out).state.n_events == 3000
+    with pytest.raises(faultnet.InvalidParameterError, match="already holds 3,000 events"):
+        _run(model, out, extend=True)
+
+
+def test_extending_refuses_another_model_and_a_catalog_without_state(tmp_path, small):
+    import pyarrow.parquet as pq
+
+    model, _ = small
+    out = tmp_path / "x.parquet"
+    _run(model, out)
+    with pytest.raises(faultnet.InvalidParameterError, match="another graph or other param"):
+        faultnet.simulate(model.with_params(alpha=2.0), 10, x0=out, progress=False)
+    table = pq.read_table(out)
+    md = {k: v for k, v in table.schema.metadata.items() if k != b"faultnet_state"}
+    pq.write_table(table.replace_schema_metadata(md), out)
+    with pytest.raises(CatalogError, match="holds no final state"):
+        faultnet.simulate(model, 10, x0=out, progress=False)
+
+
+def test_the_cli_continues_a_finished_run(tmp_path):
+    from faultnet.__main__ import main
+
+    args = ["simulate", "ring:60", "--alpha", "1.5", "--seed", "5", "--no-progress"]
+    ref, out = tmp_path / "ref.parquet", tmp_path / "x.parquet"
+    assert main([*args, "-n", "3000", "--out", str(ref)]) == 0
+    assert main([*args, "-n", "1200", "--out", str(out)]) == 0
+    assert main(["simulate", "--continue", "--out", str(out), "-n", "3000", "--no-progress"]) == 0
+    pd.testing.assert_frame_equal(
+        read_catalog(out).events, read_catalog(ref).events, check_exact=True
+    )
