@@ -155,7 +155,7 @@ def test_crash_windows(tmp_path, monkeypatch, small, where):
         monkeypatch.setattr(_run_loop, "save_checkpoint", save)
     elif where == "in_merge":
 
-        def merge(parts, out_, md, overwrite=False):
+        def merge(parts, out_, md, overwrite=False, state=None):
             with open(os.path.join(tmp_path, ".cat.parquet.tmp-1-x"), "wb") as fh:
                 fh.write(b"PAR1")
             raise Crash
