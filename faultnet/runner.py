@@ -195,7 +195,15 @@ def _start_or_resume(out, wd, rng, resume, force, step, job):
             )
     seq = seed_sequence(rng)
     identity = run_identity(model, n_events, step, options, seq)
-    extending = resume and not force and os.path.isdir(wd) and _checkpoint_is(wd, identity)
+    # an extension in progress: ``out`` holds the shorter run, the checkpoint this one
+    extending = (
+        resume
+        and not force
+        and os.path.isdir(wd)
+        and _checkpoint_is(wd, identity)
+        and os.path.exists(out)
+        and bool(mismatch(read_metadata(out), identity))
+    )
     if os.path.exists(out) and not extending:
         if resume and not force:
             done = _complete_output(out, identity)
@@ -226,8 +234,7 @@ def _start_or_resume(out, wd, rng, resume, force, step, job):
 
 
 def _checkpoint_is(wd, identity):
-    """True if the checkpoint folder ``wd`` is of the run ``identity`` (an extension of a
-    finished ``out`` in progress, or a run killed between its merge and its clean-up)."""
+    """True if the checkpoint folder ``wd`` is of the run ``identity``."""
     run_json = os.path.join(wd, "run.json")
     return os.path.isfile(run_json) and not mismatch(read_run_json(run_json), identity)
 
