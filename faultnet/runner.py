@@ -246,6 +246,14 @@ def _prepare_extension(out, wd, n_events):
         return True  # an extension (or a run) in progress: resume checks it is this one
     md = verify_catalog(out)
     state = read_state(out)
+    missing = [key for key in IDENTITY if key not in md]
+    if md.get("first_event") or missing:
+        raise InvalidParameterError(
+            f"{out} is not a whole run from event 0 (it starts at event "
+            f"{md.get('first_event') or 0}{', lacks ' + ', '.join(missing) if missing else ''}): "
+            "it cannot be extended in place; continue it in memory with "
+            "simulate(model, n, x0=path)"
+        )
     if md["n_events"] >= n_events:
         raise InvalidParameterError(
             f"{out} already holds {md['n_events']:,} events; extend it to more than that"

@@ -287,3 +287,15 @@ def test_the_cli_continues_a_finished_run(tmp_path):
     pd.testing.assert_frame_equal(
         read_catalog(out).events, read_catalog(ref).events, check_exact=True
     )
+
+
+def test_only_a_whole_run_is_extended_in_place(tmp_path, small):
+    model, _ = small
+    first = faultnet.simulate(model, 300, rng=5, progress=False)
+    later = faultnet.simulate(model, 300, x0=first, progress=False)  # events 300..599
+    out = tmp_path / "later.parquet"
+    faultnet.write_catalog(later, out)
+    with pytest.raises(faultnet.InvalidParameterError, match="starts at event 300"):
+        _run(model, out, extend=True)
+    more = faultnet.simulate(model, 100, x0=out, progress=False)  # in memory it continues
+    assert more.events["event"].iloc[0] == 600
