@@ -6,12 +6,12 @@ multi-block events is at most ``rtol`` on every benchmark workload (W1-W6 of
 ``benchmarks/run.py``: rings of 2,000 blocks at alpha 1, 2, 0.25; the periodic 150^2
 lattice; the square and triangular critical percolation clusters).
 
-Two crossing treatments (``faultnet._kernels``):
+Two crossing treatments (``faultnet._kernels.carlson_langer.slip``):
 
-- ``"exact"``: every stop and join is reached by the scheme itself (partial steps, landings,
-  local regions), so events keep the fifth order of the DP5 steps;
+- ``"exact"``: every stop and join is reached by the scheme itself (partial steps, landings),
+  so events keep the fifth order of the DP5 steps;
 - ``"interpolated"``: every full step is kept, and the crossings inside it are placed from
-  what the step computed (``faultnet._kernels.interp``, ``response``): far cheaper per
+  what the step computed (``carlson_langer.interp``, ``response``): far cheaper per
   crossing, and with the neighbours' answer to each crossing as accurate as the exact
   treatment on small events at the same step.
 
@@ -29,7 +29,7 @@ the stiffness matrix plus alpha^2), measured by::
 
 (each column's text below :data:`CALIBRATION` names the workloads and alphas it is the
 worst of).  The interpolated columns were measured with the stopping and joining blocks' own
-paths integrated by four RK4 sub-steps; their Taylor series (``faultnet._kernels.response``)
+paths integrated by four RK4 sub-steps; their Taylor series (``carlson_langer.physics.lone_path``)
 gives the same 90th percentiles within 1% on W1-W6 at coefficients 0.05 to 0.6, from the
 same pre-event states.
 

@@ -105,14 +105,12 @@ class SimulationResult:
         Parameters, dt, seed (SeedSequence entropy and spawn key), versions,
         wall time and work counters: ``n_steps`` and ``block_steps`` (work
         actually done in this call), ``solo_events`` (events taken from a
-        cached solo slip, which cost no integration), ``local_steps`` (steps
-        whose crossings were handled in local regions, see
-        ``RunOptions.local_regions_from``), ``local_fallbacks`` (such steps
-        handed back to the whole-event treatment), and the parts of
-        ``block_steps`` spent in partial steps to crossings and their
-        polish (``partial_block_steps``) and inside local regions
-        (``region_block_steps``); ``landed_joins`` counts the joins reached
-        on a step's interpolant instead of by a partial step.
+        cached solo slip, which cost no integration), the part of
+        ``block_steps`` spent in partial steps to crossings and their polish
+        (``partial_block_steps``), ``landed_joins`` (the joins reached on a
+        step's interpolant instead of by a partial step) and
+        ``interpolated_crossings`` (stops and joins placed on a step's dense
+        output).
     """
 
     events: pd.DataFrame

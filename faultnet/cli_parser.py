@@ -323,7 +323,7 @@ def _fit_options(p):
 
 def _run_option_flags(p):
     g = p.add_argument_group("run options (faultnet.RunOptions; default: as recorded on --resume)")
-    g.add_argument("--method", choices=["dopri5", "rk4"], help="scheme inside events (dopri5)")
+    g.add_argument("--method", metavar="{dopri5}", help="scheme inside events (dopri5)")
     g.add_argument(
         "--rtol",
         type=_finite,
@@ -342,21 +342,10 @@ def _run_option_flags(p):
         default=None,
         help="reuse the cached slip of a block slipping alone (on)",
     )
-    g.add_argument(
-        "--local-regions-from",
-        type=_local_from,
-        metavar="N|inf",
-        help="slipping blocks from which exact crossings are handled in local regions "
-        "(32; off on rings and chains)",
-    )
+    # removed: RunOptions answers it with what to use instead
+    g.add_argument("--local-regions-from", help=argparse.SUPPRESS)
     g.add_argument("--max-event-duration", type=_finite, metavar="T", help="guard (1e4)")
     g.add_argument("--max-velocity", type=_finite, metavar="V", help="guard (1e3)")
-
-
-def _local_from(text):
-    if text.strip().lower() in ("inf", "infinity"):
-        return float("inf")
-    return _int_at_least(1, "an integer >= 1 or inf")(text)
 
 
 def run_options_from_args(args):

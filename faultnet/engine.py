@@ -354,9 +354,9 @@ def simulate(
     progress : bool or None
         Show a progress bar (None: only on a terminal).
     options : RunOptions, dict or None
-        Every numerical choice of the run (scheme, step, solo-slip cache,
-        local regions, guards); recorded in ``metadata["options"]``.
-    method : {"dopri5", "rk4"}, optional
+        Every numerical choice of the run (scheme, step, crossing treatment,
+        solo-slip cache, guards); recorded in ``metadata["options"]``.
+    method : {"dopri5"}, optional
         Shortcut for ``options.method``.
     rtol : float, optional
         Shortcut for ``options.rtol``: the target relative accuracy of an

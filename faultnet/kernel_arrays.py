@@ -25,7 +25,6 @@ from faultnet._kernels.layout import (
     CNT_TRACE_FULL,
     CNT_TRACE_ROWS,
     CTRL_DT,
-    CTRL_LOCAL_FROM,
     CTRL_MAX_DURATION,
     CTRL_MAX_VELOCITY,
     CTRL_REBUILD,
@@ -250,7 +249,7 @@ class KernelArrays:
         self.ctrl[CTRL_MAX_VELOCITY] = options.max_velocity
         self.ctrl[CTRL_SOLO_CACHE] = float(options.solo_cache)
         self.cnt = np.zeros(CNT_SIZE, dtype=np.int64)
-        # local-region context (boundary, times) and the boundary's dense coefficients
+        # the crossings a step lists (carlson_langer.work)
         self.loc = np.zeros(K.LOC_SIZE, dtype=np.float64)
         self.out = np.zeros(OUT_SIZE, dtype=np.float64)
         self.kstate = KernelState(self.z, self.scal, self.keys, self.tree)
@@ -286,7 +285,6 @@ class KernelArrays:
             self.nbr,
         )
         self.ctrl[CTRL_DT] = dt
-        self.ctrl[CTRL_LOCAL_FROM] = self.options.regions_from(model)
         self.kernel = getattr(_kernels(), self.options.entry(model))
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
         self.cls = model.block_classes

@@ -8,52 +8,62 @@ command line all take one; it is recorded whole in
 resume with other options is refused.
 
 >>> from faultnet import RunOptions
->>> opts = RunOptions(method="rk4", dt=0.01)
->>> opts.method, opts.dt
-('rk4', 0.01)
+>>> opts = RunOptions(crossings="exact", dt=0.01)
+>>> opts.crossings, opts.dt
+('exact', 0.01)
 >>> RunOptions.from_dict(opts.to_dict()) == opts
 True
 >>> RunOptions(method="euler")
 Traceback (most recent call last):
 ...
-faultnet.exceptions.InvalidParameterError: method must be one of ['dopri5', 'rk4']; got 'euler'
+faultnet.exceptions.InvalidParameterError: method must be one of ['dopri5']; got 'euler'
 """
 
 from __future__ import annotations
 
 import dataclasses
 import math
-import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from faultnet._validate import check_int, check_positive
+from faultnet._validate import check_positive
 from faultnet.exceptions import InvalidParameterError
 
 __all__ = [
     "CROSSINGS",
     "DEFAULT_RTOL",
     "DT_COEFFICIENT",
-    "DEFAULT_LOCAL_REGIONS_FROM",
     "METHODS",
+    "REMOVED",
     "RunOptions",
     "check_crossings",
     "default_dt",
     "omega2_max",
 ]
 
-#: integration schemes inside events, and their kernel codes
-METHODS = {"rk4": 0, "dopri5": 1}
+#: integration schemes inside events
+METHODS = ("dopri5",)
 #: default step = DT_COEFFICIENT[method] / sqrt(omega2_max); see :func:`default_dt`
-DT_COEFFICIENT = {"rk4": 0.08, "dopri5": 0.3}
-#: RK4 is stable on an oscillator for omega*dt < 2.83; steps near it are refused
+DT_COEFFICIENT = {"dopri5": 0.3}
+#: explicit Runge-Kutta steps lose stability on an oscillator near omega*dt = 3; steps from
+#: omega*dt = 2.5 on are refused
 DT_STABILITY = 2.5
 #: the default target accuracy of an event's slip (see :class:`RunOptions`)
 DEFAULT_RTOL = 1e-6
-#: with ``local_regions_from=None``, graphs with a block of three or more neighbours handle
-#: events of this many slipping blocks or more in local regions
-DEFAULT_LOCAL_REGIONS_FROM = 32
+#: options and values that faultnet no longer has, with what to use instead
+REMOVED = {
+    "method='rk4'": (
+        "method='rk4' was removed in faultnet 0.3.0: events are integrated with 'dopri5' "
+        "(Dormand-Prince 5(4)) only; leave method out, and pass dt=<step> for a fixed step "
+        "of your own or rtol=<accuracy> for a calibrated one"
+    ),
+    "local_regions_from": (
+        "local_regions_from was removed in faultnet 0.3.0: large events on 2-D graphs take "
+        "crossings='interpolated' (the default there, and faster than the local regions "
+        "were); pass crossings='exact' for the fifth-order treatment of every crossing"
+    ),
+}
 #: crossing treatments (each has its entry kernel, see :meth:`RunOptions.entry`)
 CROSSINGS = ("exact", "interpolated")
 #: an event may take at most this many steps of ``dt`` (``max_event_duration / dt``)
@@ -77,8 +87,10 @@ def omega2_max(model) -> float:
 
 
 def _check_method(method):
+    if method == "rk4":
+        raise InvalidParameterError(REMOVED["method='rk4'"])
     if not isinstance(method, str) or method not in METHODS:
-        raise InvalidParameterError(f"method must be one of {sorted(METHODS)}; got {method!r}")
+        raise InvalidParameterError(f"method must be one of {list(METHODS)}; got {method!r}")
     return method
 
 
@@ -94,16 +106,15 @@ def check_crossings(crossings):
 def default_dt(model, method: str = "dopri5") -> float:
     """The fixed step ``DT_COEFFICIENT[method] / sqrt(omega2_max(model))``.
 
-    Runs use it with ``RunOptions(rtol=None)`` and with RK4; by default the
-    step follows ``rtol`` (:func:`faultnet.accuracy.step_for_rtol`).  With the
-    coefficients 0.3 (dopri5) and 0.08 (rk4), slip sizes of single events are
-    within 3e-7 relative of the dt -> 0 limit on the one-block, two-block and
-    ring test cases (``tests/test_convergence.py``).
+    Runs use it with ``RunOptions(rtol=None)``; by default the step follows
+    ``rtol`` (:func:`faultnet.accuracy.step_for_rtol`).  With the coefficient 0.3,
+    slip sizes of single events are within 3e-7 relative of the dt -> 0 limit on
+    the one-block, two-block and ring test cases (``tests/test_convergence.py``).
 
     >>> import faultnet
     >>> one = faultnet.CarlsonLanger(faultnet.graphs.chain(1), alpha=2.0)
-    >>> round(default_dt(one), 6), round(default_dt(one, "rk4"), 6)
-    (0.134164, 0.035777)
+    >>> round(default_dt(one), 6)
+    0.134164
     """
     return DT_COEFFICIENT[_check_method(method)] / math.sqrt(omega2_max(model))
 
@@ -123,9 +134,8 @@ class RunOptions:
 
     Parameters
     ----------
-    method : {"dopri5", "rk4"}
-        Scheme inside events: fixed-step Dormand-Prince 5(4) (default) or
-        classical RK4.  Both locate stick and join instants inside a step.
+    method : {"dopri5"}
+        Scheme inside events: fixed-step Dormand-Prince 5(4), the only one.
     dt : float or None
         Integration step inside events; it overrides ``rtol``.  None: from
         ``rtol``, or :func:`default_dt` of the model and method when ``rtol``
@@ -134,33 +144,19 @@ class RunOptions:
         Target relative accuracy of an event's slip (1e-8 to 1e-4, default
         1e-6): the step and the crossing treatment come from the calibration
         of :func:`faultnet.accuracy.step_for_rtol` (the 90th percentile of the
-        relative S error of typical multi-block events is within rtol).  It is
-        calibrated for dopri5: with ``method="rk4"`` the default becomes None
-        (RK4's fixed default step) and another value is refused.  None: the
-        fixed step :func:`default_dt`.
+        relative S error of typical multi-block events is within rtol).  None:
+        the fixed step :func:`default_dt`.
     crossings : {"exact", "interpolated"} or None
         Treatment of stops (v -> 0) and joins (F -> 1) inside a step:
         ``"exact"`` redoes the step to each crossing and keeps the scheme's
-        order; ``"interpolated"`` (dopri5) places them on the step's dense
-        output and never redoes a step (fourth order, cheaper on lattices).
+        order; ``"interpolated"`` places them on the step's dense output and
+        never redoes a step (fourth order, cheaper on lattices).
         None: the calibration's choice with ``rtol``, else ``"exact"``.
     solo_cache : bool
         An event whose hypocentre slips alone depends only on that block's
         stiffness, sigma and alpha: integrate it once per such parameter class
         and reuse it (True, default), or integrate every event (False, the
         reference in tests).
-    local_regions_from : int, float("inf") or None
-        With exact crossings (DP5), events with at least this many slipping
-        blocks handle the crossings of a step in small local regions: far
-        fewer block-steps in large 2-D events, with each region's change
-        neglected outside it (their S error against dt -> 0 is 1.1-2.4 times
-        the whole-event treatment's at the same dt, ``tests/test_local.py``).
-        ``inf``: always the whole-event treatment; with interpolated crossings a
-        finite value has no effect and a warning says so.  None (default):
-        :data:`DEFAULT_LOCAL_REGIONS_FROM` blocks, or ``inf`` on graphs without a block
-        of three or more neighbours (rings and chains), where regions save
-        nothing (rings of 2,000 blocks at alpha 1 and 0.25 ran as fast without
-        them) and their code need not be compiled.
     max_event_duration : float
         An event lasting longer (time units) stops the run with an error.
     max_velocity : float
@@ -172,16 +168,18 @@ class RunOptions:
     rtol: float | None = DEFAULT_RTOL
     crossings: str | None = None
     solo_cache: bool = True
-    local_regions_from: float | None = None
     max_event_duration: float = 1e4
     max_velocity: float = 1e3
+
+    def __new__(cls, *args, **kwargs):
+        if "local_regions_from" in kwargs:  # before the dataclass's own "unexpected keyword"
+            raise InvalidParameterError(REMOVED["local_regions_from"])
+        return super().__new__(cls)
 
     def __post_init__(self):
         _check_method(self.method)
         if self.dt is not None:
             object.__setattr__(self, "dt", check_positive("dt", self.dt))
-        if self.method != "dopri5" and self.rtol == DEFAULT_RTOL:
-            object.__setattr__(self, "rtol", None)  # RK4 runs at its fixed default step
         if self.rtol is not None:
             from faultnet.accuracy import RTOL_RANGE
 
@@ -190,30 +188,20 @@ class RunOptions:
                 raise InvalidParameterError(
                     f"rtol must be between {RTOL_RANGE[0]:g} and {RTOL_RANGE[1]:g}; got {rtol!r}"
                 )
-            if self.method != "dopri5":
-                raise InvalidParameterError(
-                    "rtol is calibrated for method 'dopri5'; use dt with rk4"
-                )
             object.__setattr__(self, "rtol", rtol)
         check_crossings(self.crossings)
-        if self.crossings == "interpolated" and self.method != "dopri5":
-            raise InvalidParameterError("crossings='interpolated' needs method 'dopri5'")
         if not isinstance(self.solo_cache, bool | np.bool_):
             raise InvalidParameterError(
                 f"solo_cache must be True or False; got {self.solo_cache!r}"
             )
         object.__setattr__(self, "solo_cache", bool(self.solo_cache))
-        lr = self.local_regions_from
-        if lr is not None and not (isinstance(lr, float) and lr == math.inf):
-            lr = check_int("local_regions_from", lr, minimum=1)
-        object.__setattr__(self, "local_regions_from", lr)
         for name in ("max_event_duration", "max_velocity"):
             object.__setattr__(self, name, check_positive(name, getattr(self, name)))
 
     def step(self, model) -> float:
         """The step of a run of ``model``: ``dt``, or the default, checked for stability.
 
-        A step beyond the RK4 stability limit, or one that would need more
+        A step beyond the stability limit, or one that would need more
         than 10^9 steps for an event of ``max_event_duration``, is refused.
         """
         limit = DT_STABILITY / math.sqrt(omega2_max(model))
@@ -225,7 +213,7 @@ class RunOptions:
             dt = default_dt(model, self.method)
         if dt > limit:
             raise InvalidParameterError(
-                f"dt={dt:g} is beyond the RK4 stability limit {limit:.4g} of this model "
+                f"dt={dt:g} is beyond the stability limit {limit:.4g} of this model "
                 f"(stiffest block); use dt <= {limit:.4g} or leave dt=None for "
                 f"{default_dt(model, self.method):.4g}"
             )
@@ -261,35 +249,11 @@ class RunOptions:
             return self._calibrated(model).crossings
         return "exact"
 
-    def regions_from(self, model) -> float:
-        """:attr:`local_regions_from` for ``model``, resolved (``inf``: no local regions)."""
-        if self.local_regions_from is not None:
-            return float(self.local_regions_from)
-        degrees = np.diff(model.adjacency.indptr)
-        return float(DEFAULT_LOCAL_REGIONS_FROM) if degrees.size and degrees.max() > 2 else math.inf
-
     def entry(self, model) -> str:
-        """Name of the entry kernel (:mod:`faultnet._kernels.events`) of a run of ``model``.
-
-        Each (scheme, crossing treatment) has its own, so that a run compiles only its own
-        code; local regions only where an event could form one (at least
-        :meth:`regions_from` slipping blocks and fewer than a quarter of the blocks).
-        """
-        if self.method == "rk4":
-            return "run_events_rk4"
+        """Name of the entry kernel (:mod:`faultnet._kernels.carlson_langer.events`) of a run of
+        ``model``: one per crossing treatment, so that a run compiles only its own code."""
         if self.treatment(model) == "interpolated":
-            lr = self.local_regions_from
-            if lr is not None and math.isfinite(lr):
-                warnings.warn(
-                    f"local_regions_from={lr} has no effect: local regions apply to exact "
-                    "crossings only, and this run uses interpolated crossings (pass "
-                    "crossings='exact' to use them)",
-                    UserWarning,
-                    stacklevel=3,
-                )
             return "run_events_dopri5_interpolated"
-        if 4 * self.regions_from(model) < model.n:
-            return "run_events_dopri5_local"
         return "run_events_dopri5"
 
     def replace(self, **changes) -> RunOptions:
@@ -297,26 +261,27 @@ class RunOptions:
         return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict:
-        """Plain JSON-friendly values (``inf`` as the string ``"inf"``)."""
-        d = dataclasses.asdict(self)
-        if d["local_regions_from"] == math.inf:
-            d["local_regions_from"] = "inf"
-        return d
+        """Plain JSON-friendly values."""
+        return dataclasses.asdict(self)
 
     @classmethod
     def from_dict(cls, d) -> RunOptions:
-        """Inverse of :meth:`to_dict`; unknown keys are refused by name."""
+        """Inverse of :meth:`to_dict`; unknown keys are refused by name.
+
+        A record written by faultnet 0.2 holds ``local_regions_from``: left out where it had no
+        effect (None, or ``inf``: the whole-event treatment), refused otherwise.
+        """
         if not isinstance(d, dict):
             raise InvalidParameterError(f"run options must be a table/dict; got {d!r}")
         names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(d) - names)
+        unknown = sorted(set(d) - names - {"local_regions_from"})
         if unknown:
             raise InvalidParameterError(
                 f"unknown run option(s) {unknown}; allowed: {sorted(names)}"
             )
         d = dict(d)
-        if d.get("local_regions_from") in ("inf", "Infinity"):
-            d["local_regions_from"] = math.inf
+        if d.get("local_regions_from", 0) in (None, "inf", "Infinity", math.inf):
+            del d["local_regions_from"]
         return cls(**d)
 
     @classmethod

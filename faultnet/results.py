@@ -14,10 +14,7 @@ import numpy as np
 from faultnet._kernels.layout import (
     CNT_INTERPOLATED_CROSSINGS,
     CNT_LANDED_JOINS,
-    CNT_LOCAL_FALLBACKS,
-    CNT_LOCAL_STEPS,
     CNT_PARTIAL_BLOCK_STEPS,
-    CNT_REGION_BLOCK_STEPS,
     CNT_SOLO_EVENTS,
     CNT_TRACE_FULL,
     CNT_TRACE_ROWS,
@@ -52,10 +49,7 @@ _STATUS_MESSAGES = {
 #: work counters reported in the metadata of every chunk
 _COUNTERS = {
     "solo_events": CNT_SOLO_EVENTS,
-    "local_steps": CNT_LOCAL_STEPS,
-    "local_fallbacks": CNT_LOCAL_FALLBACKS,
     "partial_block_steps": CNT_PARTIAL_BLOCK_STEPS,
-    "region_block_steps": CNT_REGION_BLOCK_STEPS,
     "landed_joins": CNT_LANDED_JOINS,
     "interpolated_crossings": CNT_INTERPOLATED_CROSSINGS,
 }

@@ -1,22 +1,31 @@
 """The named bundles in which the kernels' arrays travel.
 
 The Python layer (:class:`faultnet.kernel_arrays.KernelArrays`) builds one of each and hands
-them to an entry kernel (:mod:`faultnet._kernels.events`); inner kernels take the bundles they
+them to an entry kernel (:mod:`.carlson_langer.events`); inner kernels take the bundles they
 need and read their fields by name (``g.indptr``).  Each bundle is a ``namedtuple``, which
 Numba types as a tuple: a field is read at no cost, and a kernel called with a bundle
 compiles for the field types only (one signature per bundle).
 
-The hot inner kernels (the stage passes of :func:`faultnet._kernels.dopri.dopri_step` and
-:func:`faultnet._kernels.integrate.rk4_step`, :func:`~faultnet._kernels.integrate.force`,
-:func:`~faultnet._kernels.integrate.accel` and the crossing scan of
-:mod:`faultnet._kernels.crossing`) take the arrays themselves, unpacked once by their caller.
+The hot inner kernels (the stage passes of :func:`~.carlson_langer.dopri.dopri_step`, the force
+and acceleration of :mod:`~.carlson_langer.physics` and the crossing scan of
+:mod:`~.carlson_langer.crossing`) take the arrays themselves, unpacked once by their caller.
 """
 
 from collections import namedtuple
 
 import numpy as np
 
-__all__ = ["Graph", "Records", "State", "Work", "graph_bundle", "padded_neighbours", "work_array"]
+__all__ = [
+    "Graph",
+    "Records",
+    "State",
+    "Work",
+    "empty_tree",
+    "graph_bundle",
+    "padded_neighbours",
+    "tree_size",
+    "work_array",
+]
 
 #: Topology and per-block parameters (read-only in the kernels).
 #:
@@ -35,7 +44,7 @@ __all__ = ["Graph", "Records", "State", "Work", "graph_bundle", "padded_neighbou
 #:   its negative-index wrap-around (2-6% more events/s on W1 and W6).
 Graph = namedtuple("Graph", ["indptr", "indices", "kval", "diag", "oms", "cfr", "k_uniform", "nbr"])
 
-#: The model's state between events (:mod:`faultnet._kernels.tree`).
+#: The model's state between events (:mod:`.carlson_langer.tree`).
 #:
 #: - ``z`` (float64[N]): block displacements minus the frame offset;
 #: - ``scal`` (float64[SCAL_SIZE]): the frame offset and the plate position relative to it
@@ -48,13 +57,12 @@ State = namedtuple("State", ["z", "scal", "keys", "tree"])
 #: The event's work space and the counters of the current call.
 #:
 #: - ``W`` (float64[2 N + 1, N_WORK], :func:`work_array`): float work, block-major: row i for
-#:   block i (columns named in :mod:`faultnet._kernels.integrate`), row N + q the DP5 stage
-#:   derivatives of the block at active position q (:func:`faultnet._kernels.tableau.stage_rows`,
+#:   block i (columns named in :mod:`.carlson_langer.work`), row N + q the DP5 stage
+#:   derivatives of the block at active position q (:func:`.carlson_langer.tableau.stage_rows`,
 #:   columns ``KV``, ``KA``), and row 2 N the ghost, never written, which padded neighbours
 #:   read (``Graph.nbr``);
-#: - ``IW`` (int64[N_IWORK, N]): int work, rows named in :mod:`faultnet._kernels.integrate`;
-#: - ``loc`` (float64[LOC_SIZE]): the local-region context of a step
-#:   (:mod:`faultnet._kernels.context`);
+#: - ``IW`` (int64[N_IWORK, N]): int work, rows named in :mod:`.carlson_langer.work`;
+#: - ``loc`` (float64[LOC_SIZE]): the crossings a step listed (:mod:`.carlson_langer.work`);
 #: - ``cnt`` (int64[CNT_SIZE]): counters (``layout.CNT_*``).
 Work = namedtuple("Work", ["W", "IW", "loc", "cnt"])
 
@@ -148,3 +156,16 @@ def graph_bundle(indptr, indices, kval, diag, oms, cfr, nbr=None):
 def work_array(n, columns):
     """The float work array ``W`` of :data:`Work` for n blocks: 2 n + 1 rows of zeros."""
     return np.zeros((2 * n + 1, columns), dtype=np.float64)
+
+
+def tree_size(n):
+    """Length of the failure tree (``State.tree``) for ``n`` leaves (a power of two, doubled)."""
+    leaves = 1
+    while leaves < n:
+        leaves *= 2
+    return 2 * leaves
+
+
+def empty_tree(n):
+    """Allocate the failure tree of ``n`` blocks."""
+    return np.full(tree_size(n), -1, dtype=np.int64)

@@ -5,8 +5,9 @@ reuses it while that stamp matches.  But a kernel's compiled code contains every
 calls, from other files: after a change to ``dopri.py`` alone (an upgrade, a ``git pull``
 into an editable install, a contributor's edit), Numba would go on loading the entry kernels
 of ``events.py`` with the old step inside, and runs would silently use it.  Here the stamp of
-every kernel in this package is the SHA-256 of all its ``.py`` sources, so that a change to
-any kernel recompiles them all, and a reinstall of the same sources recompiles none.
+every kernel in this package is the SHA-256 of all its ``.py`` sources (this folder and the
+folders below it), so that a change to any kernel recompiles them all, and a reinstall of the
+same sources recompiles none.
 
 The stamp comes from a cache locator (a subclass of Numba's locator class, the mechanism its
 ``NUMBA_CACHE_LOCATOR_CLASSES`` setting also uses) put first in Numba's list of locators.  It
@@ -48,7 +49,7 @@ __all__ = [
     "verified",
 ]
 
-#: this package's directory: the kernels' sources
+#: this package's directory: the kernels' sources, in it and in the folders below it
 KERNELS_DIR = os.path.dirname(os.path.abspath(__file__))
 #: Numba's locator base class and the class holding its list of locators (their names vary
 #: between Numba versions)
@@ -69,12 +70,16 @@ def _say(message):
 
 
 def sources_stamp(directory):
-    """SHA-256 (hex) of the names and contents of the ``.py`` files in ``directory``, sorted."""
+    """SHA-256 (hex) of the paths and contents of the ``.py`` files under ``directory``, sorted."""
     digest = hashlib.sha256()
-    for name in sorted(os.listdir(directory)):
-        if name.endswith(".py"):
-            with open(os.path.join(directory, name), "rb") as fh:
-                digest.update(name.encode() + b"\0" + fh.read() + b"\0")
+    names = []
+    for root, dirs, files in os.walk(directory):
+        dirs[:] = [d for d in dirs if not d.startswith((".", "__"))]
+        rel = os.path.relpath(root, directory)
+        names += [os.path.normpath(os.path.join(rel, f)) for f in files if f.endswith(".py")]
+    for name in sorted(names):
+        with open(os.path.join(directory, name), "rb") as fh:
+            digest.update(name.encode() + b"\0" + fh.read() + b"\0")
     return digest.hexdigest()
 
 
@@ -108,10 +113,11 @@ class SourcesLocator(_LOCATOR_BASE):
     @classmethod
     def from_function(cls, py_func, py_file):
         directory = os.path.dirname(os.path.abspath(py_file))
-        if directory not in cls.directories:
+        root = next((d for d in cls.directories if _inside(directory, d)), None)
+        if root is None:
             return None
         try:
-            stamp = _stamp(directory)
+            stamp = _stamp(root)
         except OSError:  # sources not in a readable directory (a zipped install)
             return None
         for other in _IMPL._locator_classes:
@@ -122,8 +128,13 @@ class SourcesLocator(_LOCATOR_BASE):
         return None
 
 
+def _inside(directory, root):
+    """True if ``directory`` is ``root`` or a folder below it."""
+    return directory == root or directory.startswith(root + os.sep)
+
+
 def register(directory=KERNELS_DIR):
-    """Give every cached Numba function defined in ``directory`` the stamp of all its sources.
+    """Give every cached Numba function defined under ``directory`` the stamp of its sources.
 
     Call before the functions are decorated (Numba picks a function's locator then).
     Returns True if registered, False (with a warning) where Numba lacks the mechanism.
@@ -263,7 +274,7 @@ def disk_cache_available(directory=KERNELS_DIR):
     decoration where no folder is writable: the kernels are then compiled without
     ``cache=True``.
     """
-    py_file = os.path.join(directory, "events.py")
+    py_file = os.path.join(directory, "carlson_langer", "events.py")
     for cls in _IMPL._locator_classes if _IMPL is not None else ():
         try:
             if cls.from_function(_probe, py_file) is not None:

@@ -27,20 +27,16 @@ __all__ = [
     "CNT_EVENTS",
     "CNT_INTERPOLATED_CROSSINGS",
     "CNT_LANDED_JOINS",
-    "CNT_LOCAL_FALLBACKS",
-    "CNT_LOCAL_STEPS",
     "CNT_PARTIAL_BLOCK_STEPS",
-    "CNT_REGION_BLOCK_STEPS",
-    "CNT_REGION_IDS",
     "CNT_RELOCATIONS",
     "CNT_SIZE",
     "CNT_SLIP_ROWS",
     "CNT_SOLO_EVENTS",
+    "CNT_STAMPS",
     "CNT_STEPS",
     "CNT_TRACE_FULL",
     "CNT_TRACE_ROWS",
     "CTRL_DT",
-    "CTRL_LOCAL_FROM",
     "CTRL_MAX_DURATION",
     "CTRL_MAX_VELOCITY",
     "CTRL_REBUILD",
@@ -69,11 +65,10 @@ CTRL_DT = 0  #: integration step inside events
 CTRL_MAX_DURATION = 1  #: longest allowed event (time units)
 CTRL_MAX_VELOCITY = 2  #: fastest allowed block velocity
 CTRL_SOLO_CACHE = 3  #: 1.0: reuse cached solo slips; 0.0: integrate every event
-CTRL_LOCAL_FROM = 4  #: slipping blocks from which crossings are handled in local regions
 #: 1.0: recompute every key and the tree from ``z`` before the next event (set where the
 #: arrays are built, cleared by the kernel)
-CTRL_REBUILD = 5
-CTRL_SIZE = 6
+CTRL_REBUILD = 4
+CTRL_SIZE = 5
 
 SCAL_OFFSET = 0  #: integer-valued frame offset
 SCAL_W = 1  #: plate position minus the offset
@@ -88,13 +83,10 @@ CNT_TRACE_FULL = 5  #: 1 once the trajectory buffer filled up
 CNT_PARTIAL_BLOCK_STEPS = 6  #: block-steps of partial steps to crossings
 CNT_RELOCATIONS = 7  #: an earlier crossing found inside a partial step
 CNT_SOLO_EVENTS = 8  #: events taken from a cached solo slip
-CNT_LOCAL_STEPS = 9  #: steps whose crossings were handled in local regions
-CNT_LOCAL_FALLBACKS = 10  #: local steps handed back to the whole-event treatment
-CNT_REGION_IDS = 11  #: id counter of local regions (never reset)
-CNT_REGION_BLOCK_STEPS = 12  #: block-steps inside local regions
-CNT_LANDED_JOINS = 13  #: joins landed on a step's interpolant
-CNT_INTERPOLATED_CROSSINGS = 14  #: stops and joins placed on a step's dense output
-CNT_SIZE = 16
+CNT_STAMPS = 9  #: tag counter of the steps' scans (never reset)
+CNT_LANDED_JOINS = 10  #: joins landed on a step's interpolant
+CNT_INTERPOLATED_CROSSINGS = 11  #: stops and joins placed on a step's dense output
+CNT_SIZE = 12
 
 OUT_T = 0  #: plate time of the last event's start
 OUT_DURATION = 1  #: its duration

@@ -1,18 +1,9 @@
 """The event loop: load the plate to the next failure, run one slip event.
 
-The entry kernels below are the only ones the Python layer calls for a run, one per
-(scheme, crossing treatment), so that a run compiles only the code it uses.  Each passes its
-event integration (:mod:`faultnet._kernels.slip`) and its scheme (a literal, chosen while
-typing, see :func:`faultnet._kernels.stepping.step_scan`) to the shared event loop:
-
-=================================== ======== =========================================
-entry                               scheme   crossings
-=================================== ======== =========================================
-``run_events_rk4``                  RK4      exact
-``run_events_dopri5``               DP5      exact
-``run_events_dopri5_local``         DP5      exact, large events in local regions
-``run_events_dopri5_interpolated``  DP5      on each step's dense output
-=================================== ======== =========================================
+The entry kernels below are the only ones the Python layer calls for a run, one per crossing
+treatment, so that a run compiles only the code it uses.  Each passes its event integration
+(:mod:`.slip`) to the shared event loop: ``run_events_dopri5`` (DP5 steps, exact crossings) and
+``run_events_dopri5_interpolated`` (DP5 steps, crossings on each step's dense output).
 
 They advance the model by up to ``n_req`` events and fill preallocated catalog arrays.  The
 return value is a status code (``STATUS_*``); the counters in ``work.cnt`` are named in
@@ -29,14 +20,23 @@ NaN until computed).
 
 import math
 
-from faultnet._kernels.crossing import (
+from faultnet._kernels.carlson_langer.crossing import (
     STATUS_EVENT_TOO_LONG,
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_RUNAWAY,
     STATUS_SLIPS_FULL,
 )
-from faultnet._kernels.integrate import FLAG, P2, STUCK, TOUCH, UNTOUCHED, D, P
+from faultnet._kernels.carlson_langer.physics import block_key
+from faultnet._kernels.carlson_langer.slip import (
+    integrate_exact,
+    integrate_interpolated,
+    record_trace,
+)
+from faultnet._kernels.carlson_langer.solo import solo_apply, solo_end, solo_free, solo_start
+from faultnet._kernels.carlson_langer.stepping import activate, join_scan, touch
+from faultnet._kernels.carlson_langer.tree import build_keys_and_tree, tree_update
+from faultnet._kernels.carlson_langer.work import FLAG, P2, STUCK, TOUCH, UNTOUCHED, D, P
 from faultnet._kernels.jit import entry, inline_kernel, kernel
 from faultnet._kernels.layout import (
     CAT_BLOCKS,
@@ -62,15 +62,6 @@ from faultnet._kernels.layout import (
     SOLO_SLIP,
     SOLO_STEPS,
 )
-from faultnet._kernels.slip import (
-    integrate_exact,
-    integrate_interpolated,
-    integrate_local,
-    record_trace,
-)
-from faultnet._kernels.solo import solo_apply, solo_end, solo_free, solo_start
-from faultnet._kernels.stepping import activate, join_scan, touch
-from faultnet._kernels.tree import block_key, build_keys_and_tree, tree_update
 
 __all__ = [
     "STATUS_OK",
@@ -81,8 +72,6 @@ __all__ = [
     "RECENTRE_AT",
     "run_events_dopri5",
     "run_events_dopri5_interpolated",
-    "run_events_dopri5_local",
-    "run_events_rk4",
 ]
 
 #: the re-centred plate coordinate ``w`` is shifted back by an integer once it
@@ -125,7 +114,7 @@ def _finish_event(ntouch, ev, state, graph, work, records):
 
 
 @inline_kernel
-def _one_event(integrate, method, ev, state, graph, ctrl, cls, solo, work, records):
+def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
     """Load the plate to the next failure and run one slip event to its end.
 
     ``records.out`` receives the event's catalog row (``layout.OUT_*``).  Returns a status
@@ -167,7 +156,7 @@ def _one_event(integrate, method, ev, state, graph, ctrl, cls, solo, work, recor
                 record_trace(ev, 0.0, state, work, records)
             run_w = w
         status, t, nsteps, ntouch = integrate(
-            method, ev, nact, ntouch, run_w, state, ctrl, graph, work, records
+            ev, nact, ntouch, run_w, state, ctrl, graph, work, records
         )
         if status != STATUS_OK:
             return status
@@ -194,7 +183,7 @@ def _start(hyp, w, state, graph, work):
     zero = hyp - hyp  # int64, not a literal: one compiled signature per kernel
     ntouch = touch(hyp, w, keys, W, IW, zero)
     nact, ntouch = activate(hyp, zero, ntouch, w, keys, graph, work)
-    return join_scan(zero, nact, ntouch, w, keys, graph, work)
+    return join_scan(nact, ntouch, w, keys, graph, work)
 
 
 @kernel
@@ -210,8 +199,8 @@ def _recentre(state, graph):
 
 
 @inline_kernel
-def _run_events(integrate, method, n_req, ev0, state, graph, ctrl, cls, solo, work, records):
-    """Run up to ``n_req`` events with ``integrate`` (:mod:`faultnet._kernels.slip`).
+def _run_events(integrate, n_req, ev0, state, graph, ctrl, cls, solo, work, records):
+    """Run up to ``n_req`` events with ``integrate`` (:mod:`.slip`).
 
     State: ``z`` (displacements minus the frame offset), ``scal`` (the offset and the plate
     position relative to it, ``layout.SCAL_*``), ``keys`` and ``tree`` (consistent with z,
@@ -228,9 +217,7 @@ def _run_events(integrate, method, n_req, ev0, state, graph, ctrl, cls, solo, wo
     for e in range(n_req):
         if records.slip_val.shape[0] > 0 and cnt[CNT_SLIP_ROWS] + n > records.slip_val.shape[0]:
             return STATUS_SLIPS_FULL
-        status = _one_event(
-            integrate, method, ev0 + e, state, graph, ctrl, cls, solo, work, records
-        )
+        status = _one_event(integrate, ev0 + e, state, graph, ctrl, cls, solo, work, records)
         if status != STATUS_OK:
             return status
         cat_f[e, CAT_T] = out[OUT_T]
@@ -251,26 +238,14 @@ def _run_events(integrate, method, n_req, ev0, state, graph, ctrl, cls, solo, wo
 # The entries are written out, not made by a factory: Numba keys its on-disk cache by function
 # name and line, so closures of one factory would share (and clobber) an entry.
 @entry
-def run_events_rk4(n_req, ev0, state, graph, ctrl, cls, solo, work, records):
-    """:func:`_run_events` with classical RK4 steps and exact crossings."""
-    return _run_events(integrate_exact, 0, n_req, ev0, state, graph, ctrl, cls, solo, work, records)
-
-
-@entry
 def run_events_dopri5(n_req, ev0, state, graph, ctrl, cls, solo, work, records):
-    """:func:`_run_events` with Dormand-Prince 5(4) steps and exact crossings."""
-    return _run_events(integrate_exact, 1, n_req, ev0, state, graph, ctrl, cls, solo, work, records)
-
-
-@entry
-def run_events_dopri5_local(n_req, ev0, state, graph, ctrl, cls, solo, work, records):
-    """:func:`_run_events` with DP5 steps, exact crossings and local regions."""
-    return _run_events(integrate_local, 1, n_req, ev0, state, graph, ctrl, cls, solo, work, records)
+    """:func:`_run_events` with DP5 steps and exact crossings."""
+    return _run_events(integrate_exact, n_req, ev0, state, graph, ctrl, cls, solo, work, records)
 
 
 @entry
 def run_events_dopri5_interpolated(n_req, ev0, state, graph, ctrl, cls, solo, work, records):
     """:func:`_run_events` with DP5 steps and crossings on their dense output."""
     return _run_events(
-        integrate_interpolated, 1, n_req, ev0, state, graph, ctrl, cls, solo, work, records
+        integrate_interpolated, n_req, ev0, state, graph, ctrl, cls, solo, work, records
     )

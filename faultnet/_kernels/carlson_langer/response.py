@@ -25,7 +25,7 @@ A neighbour that is itself joining in the step answers the same way over the par
 rest of the step it moves in, with its path's end (``W[n, SV]``, ``W[n, SA]``) corrected
 instead (:func:`respond` for a neighbour that joined first, :func:`stop_answer` for a stop).
 Every such change of a block's end position (column ``P2``) is summed in
-``loc[LOC_MOVED]`` (:mod:`faultnet._kernels.late_joins`).
+``loc[LOC_MOVED]`` (:mod:`.late_joins`).
 A stopping block is held until the commit: the crossings of its neighbours before its stop
 shift the stop by its own answer to them (:func:`stop_shift`).
 
@@ -33,10 +33,10 @@ A joining block's own path over ``[th, 1]`` is integrated here (:func:`join_path
 stopping block's up to its stop (:func:`stop_position`): the block alone, its slipping
 neighbours following the step's dense output and those that joined before it the cubic from
 rest to their path's end; the path is the Taylor series of its equation of motion to the
-eighth power of the time (:func:`_series`), whose moments ``I_m`` are exact.  Four classical
-RK4 sub-steps per path (16 force evaluations, each with a division) gave the same 90th
-percentiles within 1% on W1-W6 at coefficients 0.05 to 0.6 and took 3-7% of W1's and 2-4% of
-W6's events/s more.  The joining neighbours follow the cubic (:func:`join_cubic`; a Taylor
+eighth power of the time (:func:`~.physics.lone_path`), whose moments ``I_m`` are exact.
+Four classical RK4 sub-steps per path (16 force evaluations, each with a division) gave the
+same 90th percentiles within 1% on W1-W6 at coefficients 0.05 to 0.6 and took 3-7% of W1's
+and 2-4% of W6's events/s more.  The joining neighbours follow the cubic (:func:`join_cubic`; a Taylor
 start to the fourth power of the time since the join is not accurate enough to keep the
 answer above from overcorrecting: its error is of the same order).
 
@@ -46,13 +46,15 @@ answer above from overcorrecting: its error is of the same order).
 
 import numpy as np
 
-from faultnet._kernels.context import LOC_MOVED
-from faultnet._kernels.integrate import (
+from faultnet._kernels.carlson_langer.physics import force, friction_slope, lone_path
+from faultnet._kernels.carlson_langer.tableau import KV, slot_dense, stage_rows
+from faultnet._kernels.carlson_langer.work import (
     ACTIVE,
     APOS,
     DN,
     FLAG,
     JOINING,
+    LOC_MOVED,
     P2,
     SA,
     STOPPING,
@@ -62,10 +64,8 @@ from faultnet._kernels.integrate import (
     D,
     P,
     V,
-    force,
 )
 from faultnet._kernels.jit import kernel
-from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 
 __all__ = [
     "BEFORE_COMMIT",
@@ -97,8 +97,7 @@ _GW = (0.3478548451374538, 0.6521451548625461, 0.6521451548625461, 0.34785484513
 def answer(n, k, vbar, i1, i2, i3, i4, graph):
     """(dv, dx) of moving block n (mean velocity ``vbar`` over the step) through a spring k to
     a neighbour's path difference with moments i1..i4."""
-    den = 1.0 + graph.cfr[n] * vbar
-    g = graph.oms[n] * graph.cfr[n] / (den * den)
+    g = friction_slope(n, vbar, graph)
     dg = graph.diag[n]
     return k * (i1 + g * i2 - dg * i3), k * (i2 + g * i3 - dg * i4)
 
@@ -167,8 +166,8 @@ def place_join(j, th, h, graph, work):
     """Stuck block j joins at fraction th: its path, and its moving neighbours' answer to it.
 
     Its path over the rest of the step is :func:`join_path`; its displacement and velocity at
-    the end of the step are kept in ``W[j, SV]``, ``W[j, SA]`` (columns of the RK4 step, free
-    with DP5) for the commit, its end position in ``P2``.
+    the end of the step are kept in ``W[j, SV]``, ``W[j, SA]`` (:mod:`.work`) for the
+    commit, its end position in ``P2``.
     """
     W = work.W
     x, v, i1, i2, i3, i4 = join_path(j, th, h, graph, work)
@@ -290,45 +289,6 @@ def neighbour_poly(b, h, th, graph, work):
 
 
 @kernel
-def _series(v0, p0, p1, p2, p3, p4, dg, oms, cfr):
-    """Taylor coefficients (a1, ..., a8) of a block's lone path ``x(t) = a1 t + ... + a8 t^8``.
-
-    The block starts at x = 0 with velocity ``v0`` and obeys
-    ``x'' = P(t) - dg x - oms / (1 + cfr x')``, ``P(t) = p0 + p1 t + ... + p4 t^4`` (its
-    force at rest with its moving neighbours' motion, :func:`neighbour_poly`).  The
-    friction's series follows from ``w = 1 / u``, ``u = 1 + cfr x'``:
-    ``w_k = -w_0 (u_1 w_(k-1) + ... + u_k w_0)``, and
-    ``a_(k+2) = (p_k - dg a_k - oms w_k) / ((k + 1)(k + 2))``.  A path spans at most a step
-    and ``omega^2 = dg <= omega2_max``, so ``omega t`` is at most the step coefficient and the
-    truncation error of order ``(omega t)^9 / 9!``: 3e-7 of the path at coefficient 0.8, 4e-11
-    at 0.29.
-    """
-    a1 = v0
-    u1 = cfr * a1
-    w0 = 1.0 / (1.0 + u1)
-    a2 = (p0 - oms * w0) / 2.0
-    u2 = cfr * 2.0 * a2
-    w1 = -w0 * (u2 * w0)
-    a3 = (p1 - dg * a1 - oms * w1) / 6.0
-    u3 = cfr * 3.0 * a3
-    w2 = -w0 * (u2 * w1 + u3 * w0)
-    a4 = (p2 - dg * a2 - oms * w2) / 12.0
-    u4 = cfr * 4.0 * a4
-    w3 = -w0 * (u2 * w2 + u3 * w1 + u4 * w0)
-    a5 = (p3 - dg * a3 - oms * w3) / 20.0
-    u5 = cfr * 5.0 * a5
-    w4 = -w0 * (u2 * w3 + u3 * w2 + u4 * w1 + u5 * w0)
-    a6 = (p4 - dg * a4 - oms * w4) / 30.0
-    u6 = cfr * 6.0 * a6
-    w5 = -w0 * (u2 * w4 + u3 * w3 + u4 * w2 + u5 * w1 + u6 * w0)
-    a7 = (-dg * a5 - oms * w5) / 42.0
-    u7 = cfr * 7.0 * a7
-    w6 = -w0 * (u2 * w5 + u3 * w4 + u4 * w3 + u5 * w2 + u6 * w1 + u7 * w0)
-    a8 = (-dg * a6 - oms * w6) / 56.0
-    return a1, a2, a3, a4, a5, a6, a7, a8
-
-
-@kernel
 def _at(t, a):
     """Displacement and velocity at time t on the path with Taylor coefficients ``a``."""
     x = 0.0
@@ -361,7 +321,7 @@ def _moment(T, m, a):
 def stop_position(b, th, h, graph, work):
     """Position of slipping block b at its stop, fraction th of the step.
 
-    b's path alone (:func:`_series`) from the start of the step to th, its moving
+    b's path alone (:func:`~.physics.lone_path`) from the start of the step to th, its moving
     neighbours on the step's dense output.  The step's own end values (and with them its
     dense output and any interpolant through them) continue b past its stop with v < 0, where
     the friction law is continued analytically and floored: at alpha 2 a block's lone slip
@@ -370,10 +330,9 @@ def stop_position(b, th, h, graph, work):
     W = work.W
     g1, g2, g3, g4 = neighbour_poly(b, h, -1.0, graph, work)
     r = 1.0 / h
-    a = _series(
-        W[b, V], force(b, D, W, graph), g1 * r, g2 * r * r, g3 * r**3, g4 * r**4,
-        graph.diag[b], graph.oms[b], graph.cfr[b],
-    )  # fmt: skip
+    a = lone_path(
+        b, W[b, V], force(b, D, W, graph), g1 * r, g2 * r * r, g3 * r**3, g4 * r**4, graph
+    )
     x, _ = _at(th * h, a)
     return W[b, D] + x
 
@@ -393,7 +352,7 @@ def join_path(j, th, h, graph, work):
     p1 = (g1 + th * (2.0 * g2 + th * (3.0 * g3 + th * 4.0 * g4))) * r
     p2 = (g2 + th * (3.0 * g3 + th * 6.0 * g4)) * r * r
     p3 = (g3 + th * 4.0 * g4) * r**3
-    a = _series(0.0, 1.0, p1, p2, p3, g4 * r**4, graph.diag[j], graph.oms[j], graph.cfr[j])
+    a = lone_path(j, 0.0, 1.0, p1, p2, p3, g4 * r**4, graph)
     T = (1.0 - th) * h
     x, v = _at(T, a)
     m = _FIRST

@@ -2,7 +2,7 @@
 
 A block that starts from rest at the threshold while every neighbour is held follows a path
 that depends only on its own stiffness, sigma and alpha.  The event loop
-(:mod:`faultnet._kernels.events`) integrates it once per such parameter class
+(:mod:`.events`) integrates it once per such parameter class
 (:func:`solo_start`, :func:`solo_end`), then takes every later event of the class from the
 cache when :func:`solo_free` shows that no neighbour reaches the threshold during it
 (:func:`solo_apply`).
@@ -11,7 +11,9 @@ cache when :func:`solo_free` shows that no neighbour reaches the threshold durin
 :mod:`faultnet._kernels.bundles`.
 """
 
-from faultnet._kernels.integrate import (
+from faultnet._kernels.carlson_langer.physics import accel, block_key, load
+from faultnet._kernels.carlson_langer.tree import tree_update
+from faultnet._kernels.carlson_langer.work import (
     ACT,
     ACTIVE,
     APOS,
@@ -25,7 +27,6 @@ from faultnet._kernels.integrate import (
     D,
     P,
     V,
-    accel,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
 from faultnet._kernels.layout import (
@@ -37,7 +38,6 @@ from faultnet._kernels.layout import (
     CNT_SLIP_ROWS,
     CNT_SOLO_EVENTS,
 )
-from faultnet._kernels.tree import block_key, tree_update
 
 __all__ = ["SOLO_MARGIN", "solo_apply", "solo_end", "solo_free", "solo_start"]
 
@@ -54,7 +54,7 @@ def solo_start(i, graph, work):
     """Set block i up to slip alone: from rest at the threshold, every neighbour held.
 
     The event loop then integrates it with the run's own integration
-    (:mod:`faultnet._kernels.slip`); the neighbours' starting forces are set to -1e300 so that
+    (:mod:`.slip`); the neighbours' starting forces are set to -1e300 so that
     none can join (starting forces are written afresh whenever a block is touched).  Such a
     slip depends only on the block's own parameters (stiffness, sigma, alpha), so it is
     computed once per parameter class and reused.  Returns the work counters to restore
@@ -106,12 +106,12 @@ def solo_end(i, saved, work):
 def solo_free(hyp, s1, w, keys, graph):
     """True when slipping s1 alone leaves every neighbour of hyp below threshold.
 
-    The slip is monotone, so a neighbour's force is largest at the end:
-    F_j = 1 + w - key_j + k_ij s1.
+    The slip is monotone, so a neighbour's force is largest at the end: its load
+    (:func:`~.physics.load`) plus ``k_ij s1``.
     """
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     for p in range(indptr[hyp], indptr[hyp + 1]):
-        if 1.0 + w - keys[indices[p]] + kval[p] * s1 >= 1.0 - SOLO_MARGIN:
+        if load(indices[p], w, keys) + kval[p] * s1 >= 1.0 - SOLO_MARGIN:
             return False
     return True
 

@@ -1,31 +1,16 @@
 """Failure keys and a tournament (min) tree over them.
 
-Every stuck block ``i`` has a *key*: the (re-centred) plate position at which
-its force reaches the static threshold 1,
-
-    key_i = 1 + diag_i z_i - sum_j k_ij z_j ,
-
-with ``diag_i = 1 + sum_j k_ij``.  Keys do not depend on the plate position,
-so they only change where an event moved blocks.  The next failing block is
+Every stuck block ``i`` has a *key*: the (re-centred) plate position at which its force
+reaches the static threshold 1 (:func:`~.physics.block_key`).  Keys do not depend on the plate
+position, so they only change where an event moved blocks.  The next failing block is
 the root of a tournament tree over the keys: O(1) to read, O(log N) to update
 one leaf.  Ties go to the lower block index.
 """
 
-import numpy as np
-
+from faultnet._kernels.carlson_langer.physics import block_key
 from faultnet._kernels.jit import kernel
 
-__all__ = ["block_key", "build_keys_and_tree", "tree_update"]
-
-
-@kernel
-def block_key(i, z, graph):
-    """Plate position (re-centred frame) at which block ``i`` fails (``graph``: Graph)."""
-    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
-    s = 0.0
-    for p in range(indptr[i], indptr[i + 1]):
-        s += kval[p] * z[indices[p]]
-    return 1.0 + graph.diag[i] * z[i] - s
+__all__ = ["build_keys_and_tree", "tree_update"]
 
 
 @kernel
@@ -45,9 +30,7 @@ def build_keys_and_tree(state, graph):
 
     ``state``, ``graph``: :class:`~faultnet._kernels.bundles.State` (its ``keys`` and
     ``tree`` are written) and ``Graph``.  The event entries call it before their first event
-    (``ctrl[CTRL_REBUILD]``) and at each re-centring of the frame.  As an entry of its own
-    (its Python wrapper, machine code and cache file) it cost a lattice run's cold compile
-    0.1-0.25 s more.
+    (``ctrl[CTRL_REBUILD]``) and at each re-centring of the frame.
     """
     z, keys, tree = state.z, state.keys, state.tree
     n = z.shape[0]
@@ -77,16 +60,3 @@ def tree_update(i, keys, tree):
             return
         tree[p] = w
         p //= 2
-
-
-def tree_size(n):
-    """Length of the tree array for ``n`` leaves (a power of two, doubled)."""
-    leaves = 1
-    while leaves < n:
-        leaves *= 2
-    return 2 * leaves
-
-
-def empty_tree(n):
-    """Allocate a tree for ``n`` blocks."""
-    return np.full(tree_size(n), -1, dtype=np.int64)

@@ -1,6 +1,6 @@
 """Joins that a step's crossings reveal: blocks they push over the threshold inside the step.
 
-After :func:`faultnet._kernels.interp.interpolated_crossings` has applied a step's listed
+After :func:`.interp.interpolated_crossings` has applied a step's listed
 stops and joins, the blocks they moved (a stopping or joining block b, and b's slipping
 neighbours, whose ends were corrected) may have pushed a stuck neighbour's force to 1 at the
 end of the step: such a block is a neighbour of b or of one of b's slipping neighbours
@@ -15,8 +15,17 @@ slips again (:func:`rejoin`), from where the force's expansion back from the end
 :class:`~faultnet._kernels.bundles.Work`.
 """
 
-from faultnet._kernels.context import LOC_MOVED
-from faultnet._kernels.integrate import (
+from faultnet._kernels.carlson_langer.physics import accel, force, friction_slope, start_accel
+from faultnet._kernels.carlson_langer.response import (
+    COMMITTED,
+    join_cubic,
+    place_join,
+    respond,
+    stop_answer,
+)
+from faultnet._kernels.carlson_langer.stepping import activate, touch
+from faultnet._kernels.carlson_langer.tableau import KV, slot_dense, stage_rows
+from faultnet._kernels.carlson_langer.work import (
     ACTIVE,
     AN,
     APOS,
@@ -25,6 +34,7 @@ from faultnet._kernels.integrate import (
     FLAG,
     FRONTIER,
     JOINING,
+    LOC_MOVED,
     P2,
     SA,
     STOPPING,
@@ -37,13 +47,8 @@ from faultnet._kernels.integrate import (
     D,
     P,
     V,
-    accel,
-    force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.response import COMMITTED, join_cubic, place_join, respond, stop_answer
-from faultnet._kernels.stepping import activate, touch
-from faultnet._kernels.tableau import KV, slot_dense, stage_rows
 
 __all__ = ["late_joins", "refresh", "rejoin"]
 
@@ -113,9 +118,9 @@ def _late_start(j, over, h, b, graph, work):
         t = _first_root(over - cb * tb * tb, 2.0 * cb * tb - d1, 0.5 * d2 - cb, tb, h)
     if t < 0.0:
         t = h
-    a0 = 1.0 - graph.oms[j]
+    a0 = start_accel(j, graph)
     df = d1 - d2 * t + 2.0 * cb * max(t - tb, 0.0)  # F' at the join
-    jerk = df + graph.oms[j] * graph.cfr[j] * a0
+    jerk = df + friction_slope(j, 0.0, graph) * a0
     x = W[j, D] + t * t * (0.5 * a0 + t * jerk / 6.0)
     W[j, D] = x
     W[j, P] = x
@@ -171,7 +176,7 @@ def _offset(n, s, h, K, W, IW):
     """Displacement of block n at fraction s of the step since the step's start, on its path.
 
     Slipping: the step's dense output; stopping: the same up to its stop (``W[n, VS]``), then
-    its stop position ``W[n, SV]``; joining: the cubic of :func:`~faultnet._kernels.response.
+    its stop position ``W[n, SV]``; joining: the cubic of :func:`~.response.
     neighbour_poly` from its join on; stuck: 0.
     """
     fl = IW[FLAG, n]
@@ -213,7 +218,7 @@ def _late_theta(j, h, graph, work):
 def _late_join(j, h, graph, work):
     """Stuck block j, pushed over the threshold by the step's crossings, joins where it did.
 
-    Its path (:func:`~faultnet._kernels.response.join_path`) from the fraction where its force
+    Its path (:func:`~.response.join_path`) from the fraction where its force
     crossed 1, its slipping and earlier-joining neighbours' answer to it, and its own answer to
     its stopping neighbours.
     """

@@ -1,16 +1,16 @@
 """Interpolated crossings: stops and joins placed on a step's dense output, no step redone.
 
-The exact treatment (:mod:`faultnet._kernels.stepping`, ``local.py``, ``landing.py``)
+The exact treatment (:mod:`.stepping`, :mod:`.landing`)
 reaches every crossing with the whole scheme, so an event keeps the fifth order of its DP5
 steps; on 2-D lattices that costs more than the steps themselves.  With this treatment
-(:func:`faultnet._kernels.slip.integrate_interpolated`) the event loop takes every full step
+(:func:`.slip.integrate_interpolated`) the event loop takes every full step
 as it is and applies all the crossings found inside it at its end, from what the step has
 already computed.  First every listed crossing is located on the step's own values
 (:func:`_locate`), then applied, joins in the order of their fractions of the step, then
 stops:
 
 - a *join* of block j at ``th``: j starts from rest and its path over the rest of the step
-  is integrated alone (:func:`faultnet._kernels.response.place_join`), its slipping and
+  is integrated alone (:func:`.response.place_join`), its slipping and
   stopping neighbours on the step's dense output and its neighbours that joined earlier in
   the step on their paths.  The dense output moved j's neighbours as if none of them crossed
   inside the step; a neighbour that started (or stopped) before ``th`` pushes (holds back)
@@ -18,19 +18,19 @@ stops:
   at a rupture front one block often joins behind another within the same step);
 - a *stop* of block b at fraction ``th``: b is held, until the commit, at the position of
   its path integrated alone from the start of the step
-  (:func:`faultnet._kernels.response.stop_position`; the step itself carried it on past the
+  (:func:`.response.stop_position`; the step itself carried it on past the
   stop), shifted by its answer to the neighbours that joined or stopped before ``th``
-  (:func:`~faultnet._kernels.response.stop_shift`);
+  (:func:`~.response.stop_shift`);
 - the slipping neighbours of b (or j) moved over ``[th, 1]`` with b on its continuation past
   the stop (or j at rest), and so did j's neighbours that joined before it and b's joining
   neighbours: their velocities and positions get the force they missed and their own answer
-  to it, through their friction and springs (:func:`faultnet._kernels.response.respond`,
-  :func:`~faultnet._kernels.response.stop_answer`).
+  to it, through their friction and springs (:func:`.response.respond`,
+  :func:`~.response.stop_answer`).
 
 Then, still before the commit, every stuck block next to a crossing block, or next to one of
 its slipping (corrected) neighbours, whose force at the end of the step has reached 1 joins
 (nothing else has moved since the step's scan listed the joins): it starts where its force
-on its neighbours' paths reached 1 (:func:`faultnet._kernels.late_joins.late_joins`), and its
+on its neighbours' paths reached 1 (:func:`.late_joins.late_joins`), and its
 own neighbours are scanned in turn.  Each crossing costs a few passes over a handful of
 blocks instead of a partial step.  The neglected terms are the second-order answer of the
 neighbours (and of theirs) and the dense output's error: the S error of an event grows like
@@ -47,34 +47,16 @@ periodic 150^2 lattice 2.9e-5 against 7.0e-6).
 :class:`~faultnet._kernels.bundles.Work`.
 """
 
-from faultnet._kernels.context import LOC_MOVED, LOC_NCAND, LOC_THETA, THETA_CACHE
-from faultnet._kernels.crossing import join_theta, stick_theta
-from faultnet._kernels.integrate import (
-    ACT,
-    ACTIVE,
-    AN,
-    APOS,
-    CAND,
-    DN,
-    FLAG,
-    JOINING,
-    P2,
-    SA,
-    STOPPING,
-    SV,
-    VN,
-    VS,
-    A,
-    D,
-    P,
-    V,
+from faultnet._kernels.carlson_langer.crossing import join_theta, stick_theta
+from faultnet._kernels.carlson_langer.late_joins import late_joins, refresh, rejoin
+from faultnet._kernels.carlson_langer.physics import (
     accel,
     force,
+    friction_slope,
+    jerk_snap,
+    start_accel,
 )
-from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.late_joins import late_joins, refresh, rejoin
-from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
-from faultnet._kernels.response import (
+from faultnet._kernels.carlson_langer.response import (
     BEFORE_COMMIT,
     neighbour_poly,
     place_join,
@@ -84,8 +66,34 @@ from faultnet._kernels.response import (
     stop_position,
     stop_shift,
 )
-from faultnet._kernels.stepping import activate, deactivate, stick_scan
-from faultnet._kernels.tableau import KA, KV, slot_dense, stage_rows
+from faultnet._kernels.carlson_langer.stepping import activate, deactivate, stick_scan
+from faultnet._kernels.carlson_langer.tableau import KA, KV, slot_dense, stage_rows
+from faultnet._kernels.carlson_langer.work import (
+    ACT,
+    ACTIVE,
+    AN,
+    APOS,
+    CAND,
+    DN,
+    FLAG,
+    JOINING,
+    LOC_MOVED,
+    LOC_NCAND,
+    LOC_THETA,
+    P2,
+    SA,
+    STOPPING,
+    SV,
+    THETA_CACHE,
+    VN,
+    VS,
+    A,
+    D,
+    P,
+    V,
+)
+from faultnet._kernels.jit import inline_kernel, kernel
+from faultnet._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 
 __all__ = ["interpolated_crossings"]
 
@@ -94,7 +102,7 @@ __all__ = ["interpolated_crossings"]
 def _stop(b, th, h, graph, work):
     """Block b stops at fraction th: its stop position, neighbours corrected.
 
-    The position is :func:`faultnet._kernels.response.stop_position`, moved by b's answer to
+    The position is :func:`.response.stop_position`, moved by b's answer to
     its neighbours' earlier crossings (``stop_shift``), kept in ``W[b, SV]`` (and ``P2``, the
     end positions) until the commit; b's own end values stay, for its dense output.  Keeps
     b's acceleration at the stop in ``W[b, SA]`` (for ``late_joins``).
@@ -119,13 +127,12 @@ def _stop(b, th, h, graph, work):
 def _start_rates(j, th, h, graph, work):
     """Acceleration, jerk and snap of stuck block j starting at fraction th of the step.
 
-    a0 = 1 - oms, J = F' + oms cfr a0, S = F'' - diag a0 + oms cfr J - 2 oms cfr^2 a0^2, with
-    F' and F'' from the moving neighbours' dense velocities and accelerations at th (slipping,
-    or slipping until a stop later in the step).
+    From rest at the threshold (:func:`~.physics.start_accel`, :func:`~.physics.jerk_snap`),
+    with the spring sums of the moving neighbours' dense velocities and accelerations at th
+    (slipping, or slipping until a stop later in the step).
     """
     W, IW = work.W, work.IW
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
-    oms, cfr = graph.oms, graph.cfr
     df = 0.0
     ddf = 0.0
     for p in range(indptr[j], indptr[j + 1]):
@@ -136,10 +143,8 @@ def _start_rates(j, th, h, graph, work):
             df += kval[p] * (c0 + th * (c1 + th * (c2 + th * (c3 + th * c4))))
             ddf += kval[p] * (c1 + th * (2.0 * c2 + th * (3.0 * c3 + th * 4.0 * c4)))
     ddf /= h
-    a0 = 1.0 - oms[j]
-    g = oms[j] * cfr[j]
-    jerk = df + g * a0
-    snap = ddf - graph.diag[j] * a0 + g * jerk - 2.0 * g * cfr[j] * a0 * a0
+    a0 = start_accel(j, graph)
+    jerk, snap = jerk_snap(j, 0.0, a0, df, ddf, graph)
     return a0, jerk, snap
 
 
@@ -192,7 +197,7 @@ def _chained(j, th, h, graph, work):
         return th
     if dF < 0.0:
         a0, jerk, snap = _start_rates(j, th, h, graph, work)
-        df = jerk - graph.oms[j] * graph.cfr[j] * a0  # F' at th
+        df = jerk - friction_slope(j, 0.0, graph) * a0  # F' at th
         if df <= 0.0:
             return th
         return min(th - dF / (h * df), 1.0)
@@ -231,13 +236,12 @@ def _locate(h, ncand, graph, work):
     a slipping block that does not stop after all and a join listed twice become -1.
     """
     W, IW, loc = work.W, work.IW, work.loc
-    one = ncand - ncand + 1  # int64: one signature of the crossing kernels
     for c in range(ncand):
         b = IW[CAND, c]
         th = loc[LOC_THETA + c] if c < THETA_CACHE else 2.0
         if IW[FLAG, b] == ACTIVE:
             if th > 1.0:  # a dip, or a block that joined at rest: its own root
-                th = stick_theta(one, h, IW[APOS, b], b, W, stage_rows(work))
+                th = stick_theta(h, IW[APOS, b], b, W, stage_rows(work))
             if th > 1.0:
                 IW[CAND, c] = -1  # no stop after all
                 continue
@@ -246,7 +250,7 @@ def _locate(h, ncand, graph, work):
             if th > 1.0:
                 f0 = force(b, D, W, graph)
                 f1 = force(b, P2, W, graph)
-                th = 0.0 if f0 >= 1.0 else join_theta(one, h, one - one, b, f0, f1, graph, work)
+                th = 0.0 if f0 >= 1.0 else join_theta(h, b, f0, f1, graph, work)
             IW[FLAG, b] = JOINING
         else:
             IW[CAND, c] = -1  # listed twice
@@ -355,5 +359,5 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
         e = IW[CAND, c]
         if e <= -2:
             nact, ntouch = rejoin(-2 - e, h, nact, ntouch, w, keys, graph, work)
-    nact = stick_scan(ntouch - ntouch, nact, W, IW)
+    nact = stick_scan(nact, W, IW)
     return nact, ntouch, th_stop

@@ -21,13 +21,6 @@ accuracy (one block at alpha = 2 lost up to 20x).  Whenever the landing is not
 clean (no root next to the estimate, or another block found across its own
 crossing at the join) the caller takes the partial-step path instead.
 
-Inside a local region (:mod:`faultnet._kernels.local`) the same holds for
-the region's blocks over a region step.  Their boundary neighbours follow
-the outer step's dense output, a quartic in time, so their velocities and
-accelerations at the region step's ends are that quartic's derivatives
-(:func:`_boundary_motion`), and the boundary is placed at the join before
-the region's accelerations are recomputed.
-
 Scratch columns (free outside a step), by slot q of the active list:
 ``K[q, KV]``, ``K[q, KV + 1]`` the jerks at the start and the end of the
 step, ``K[q, KV + 3]``, ``K[q, KV + 4]`` the snaps, ``K[q, KV + 2]`` the
@@ -37,9 +30,9 @@ landed velocity.
 :class:`~faultnet._kernels.bundles.Work`.
 """
 
-from faultnet._kernels.context import LOC_OUTER_H, LOC_REGION_T
-from faultnet._kernels.dopri import boundary_at, boundary_coeffs
-from faultnet._kernels.integrate import (
+from faultnet._kernels.carlson_langer.physics import accel, force, jerk_snap
+from faultnet._kernels.carlson_langer.tableau import KV, stage_rows
+from faultnet._kernels.carlson_langer.work import (
     ACT,
     ACTIVE,
     AN,
@@ -52,11 +45,8 @@ from faultnet._kernels.integrate import (
     D,
     P,
     V,
-    accel,
-    force,
 )
 from faultnet._kernels.jit import inline_kernel, kernel
-from faultnet._kernels.tableau import KV, stage_rows
 
 __all__ = ["land", "septic_coeffs", "septic_root"]
 
@@ -128,77 +118,34 @@ def septic_root(th, c0, c1, c2, c3, c4, c5, c6, c7):
 
 
 @inline_kernel
-def _quartic_rates(th, hh, c1, c2, c3, c4):
-    """First and second time derivatives of a quartic in th, at fraction th of a step hh long."""
-    r = 1.0 / hh
-    v = r * (c1 + th * (2.0 * c2 + th * (3.0 * c3 + th * 4.0 * c4)))
-    return v, r * r * (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4))
-
-
-@inline_kernel
-def _boundary_motion(b, th0, th1, W, K, IW, loc):
-    """Velocity and acceleration of a local region's boundary block b at outer fractions th0, th1.
-
-    The boundary follows the outer step's dense output (a quartic in the
-    fraction of the outer step, length ``loc[LOC_OUTER_H]``), so these are its
-    derivatives, consistent with the positions the region's steps used.
-    """
-    c0, c1, c2, c3, c4 = boundary_coeffs(b, W, K, IW, loc)
-    v0, a0 = _quartic_rates(th0, loc[LOC_OUTER_H], c1, c2, c3, c4)
-    v1, a1 = _quartic_rates(th1, loc[LOC_OUTER_H], c1, c2, c3, c4)
-    return v0, a0, v1, a1
-
-
-@inline_kernel
-def _jerk_snap(i, v, a, sv, sa, graph):
-    """Jerk and snap of block i from its v, a and the spring sums of its neighbours' v, a."""
-    diag, oms, cfr = graph.diag, graph.oms, graph.cfr
-    den = 1.0 + cfr[i] * v
-    if den < 0.5:  # the floored friction (never reached with sane steps) is constant
-        return sv - diag[i] * v, sa - diag[i] * a
-    g = oms[i] * cfr[i] / (den * den)
-    j = sv - diag[i] * v + g * a
-    return j, sa - diag[i] * a + g * (j - 2.0 * cfr[i] * a * a / den)
-
-
-@inline_kernel
-def _derivs(i, qb, th0, th1, graph, work):
+def _derivs(i, graph, work):
     """Jerk and snap (time derivatives of the acceleration) of block i at both ends of the step.
 
-    Neighbours that are not slipping have zero velocity and acceleration; a
-    local region's boundary blocks (slipping, in the outer list below ``qb``)
-    move on the outer step's dense output, between its fractions th0 and th1.
+    Neighbours that are not slipping have zero velocity and acceleration.
     """
-    W, IW, loc = work.W, work.IW, work.loc
-    K = stage_rows(work)
+    W, IW = work.W, work.IW
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     sv0 = sa0 = sv1 = sa1 = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         b = indices[p]
         if IW[FLAG, b] == ACTIVE:
             c = kval[p]
-            if IW[APOS, b] < qb:
-                v0, a0, v1, a1 = _boundary_motion(b, th0, th1, W, K, IW, loc)
-            else:
-                v0, a0, v1, a1 = W[b, V], W[b, A], W[b, VN], W[b, AN]
-            sv0 += c * v0
-            sa0 += c * a0
-            sv1 += c * v1
-            sa1 += c * a1
-    j0, s0 = _jerk_snap(i, W[i, V], W[i, A], sv0, sa0, graph)
-    j1, s1 = _jerk_snap(i, W[i, VN], W[i, AN], sv1, sa1, graph)
+            sv0 += c * W[b, V]
+            sa0 += c * W[b, A]
+            sv1 += c * W[b, VN]
+            sa1 += c * W[b, AN]
+    j0, s0 = jerk_snap(i, W[i, V], W[i, A], sv0, sa0, graph)
+    j1, s1 = jerk_snap(i, W[i, VN], W[i, AN], sv1, sa1, graph)
     return j0, s0, j1, s1
 
 
 @kernel
-def _join_theta(th, who, h, q0, graph, work):
+def _join_theta(th, who, h, graph, work):
     """Where the force on stuck block ``who`` reaches 1 on the step's interpolant; -1.0 if not
     next to ``th``.
 
     The force is linear in the positions and stuck neighbours do not move, so
     its derivatives are sums over the slipping neighbours (their jerks by slot).
-    Inside a local region those are the region's blocks (a join next to its
-    boundary leaves the region: the scan returns theta 0, never landed here).
     """
     W, IW = work.W, work.IW
     K = stage_rows(work)
@@ -211,8 +158,6 @@ def _join_theta(th, who, h, q0, graph, work):
         if IW[FLAG, b] == ACTIVE:
             c = kval[r]
             q = IW[APOS, b]
-            if q < q0:
-                return -1.0
             g0 += c * W[b, V]
             g1 += c * W[b, VN]
             a0 += c * W[b, A]
@@ -233,18 +178,18 @@ def _join_theta(th, who, h, q0, graph, work):
 
 
 @kernel
-def _place(t, who, h, q0, nact, graph, work):
+def _place(t, who, h, nact, graph, work):
     """Every slipping block's interpolated position (P, P2) and velocity (slot column) at ``t``.
 
     Returns True when no other block has crossed by then: every slipping
     block still moves forward and every other stuck neighbour is below the
-    threshold.  Inside a local region its boundary is placed at ``t`` too.
+    threshold.
     """
-    W, IW, loc = work.W, work.IW, work.loc
+    W, IW = work.W, work.IW
     K = stage_rows(work)
     h2 = h * h
     h3 = h2 * h
-    for q in range(q0, nact):
+    for q in range(nact):
         i = IW[ACT, q]
         j0 = K[q, _J0]
         j1 = K[q, _J1]
@@ -263,9 +208,7 @@ def _place(t, who, h, q0, nact, graph, work):
         if v < 0.0:
             return False
         K[q, _VL] = v
-    if q0 > 0:
-        boundary_at(loc[LOC_REGION_T] + t * h / loc[LOC_OUTER_H], W, K, IW, loc)
-    for q in range(q0, nact):
+    for q in range(nact):
         i = IW[ACT, q]
         for p in range(graph.indptr[i], graph.indptr[i + 1]):
             j = graph.indices[p]
@@ -276,34 +219,27 @@ def _place(t, who, h, q0, nact, graph, work):
 
 
 @kernel
-def land(th, who, h, q0, qb, nact, graph, work):
-    """Move the slipping blocks ``IW[ACT, q0:nact]`` to the join of ``who`` inside the step just
+def land(th, who, h, nact, graph, work):
+    """Move the slipping blocks ``IW[ACT, :nact]`` to the join of ``who`` inside the step just
     taken; commit there.
 
     ``th`` is the dense output's estimate of the join (a fraction of the
-    step of length ``h``).  Inside a local region (``q0 > 0``) the step
-    starts at fraction ``loc[LOC_REGION_T]`` of the outer step, whose dense output its
-    boundary (slipping blocks with ``IW[APOS] < qb``) follows; with ``qb = 0``
-    the step is the outer step itself, every block at its ends.  Returns the
+    step of length ``h``).  Returns the
     time advanced, or -1.0 when the landing is not clean; the committed state
     (D, V, A) is then unchanged and the positions P, P2 of the slipping blocks
     are rewritten by the next step.
     """
-    W, IW, loc = work.W, work.IW, work.loc
+    W, IW = work.W, work.IW
     K = stage_rows(work)
-    th0 = th1 = 0.0
-    if qb > 0:
-        th0 = loc[LOC_REGION_T]
-        th1 = th0 + h / loc[LOC_OUTER_H]
-    for q in range(q0, nact):
+    for q in range(nact):
         i = IW[ACT, q]
-        K[q, _J0], K[q, _S0], K[q, _J1], K[q, _S1] = _derivs(i, qb, th0, th1, graph, work)
-    t = _join_theta(th, who, h, q0, graph, work)
+        K[q, _J0], K[q, _S0], K[q, _J1], K[q, _S1] = _derivs(i, graph, work)
+    t = _join_theta(th, who, h, graph, work)
     if t < 0.0:
         return -1.0
-    if not _place(t, who, h, q0, nact, graph, work):
+    if not _place(t, who, h, nact, graph, work):
         return -1.0
-    for q in range(q0, nact):
+    for q in range(nact):
         i = IW[ACT, q]
         x = W[i, P]
         W[i, D] = x
@@ -311,7 +247,7 @@ def land(th, who, h, q0, qb, nact, graph, work):
         v = K[q, _VL]
         W[i, V] = v
         W[i, VN] = v
-    for q in range(q0, nact):
+    for q in range(nact):
         i = IW[ACT, q]
         a = accel(i, P, V, W, graph)
         W[i, A] = a
