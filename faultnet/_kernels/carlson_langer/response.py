@@ -37,8 +37,7 @@ eighth power of the time (:func:`~.physics.lone_path`), whose moments ``I_m`` ar
 Four classical RK4 sub-steps per path (16 force evaluations, each with a division) gave the
 same 90th percentiles within 1% on W1-W6 at coefficients 0.05 to 0.6 and took 3-7% of W1's
 and 2-4% of W6's events/s more.  The joining neighbours follow the cubic (:func:`join_cubic`; a
-Taylor
-start to the fourth power of the time since the join is not accurate enough to keep the
+Taylor start to the fourth power of the time since the join is not accurate enough to keep the
 answer above from overcorrecting: its error is of the same order).
 
 ``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
