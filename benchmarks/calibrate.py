@@ -4,7 +4,7 @@ For each workload (W1-W6, ``run.py``'s graphs and steady states) this takes
 ``--events`` consecutive multi-block events, runs each alone from its pre-event state
 with faultnet at each step coefficient (step = coefficient / sqrt(omega2_max)) and each
 crossing treatment ("exact", "interpolated"), and prints the 90th percentile of
-``|S / S_true - 1|``; ``S_true`` is the exact treatment without local regions at 1/8 of
+``|S / S_true - 1|``; ``S_true`` is the exact treatment at 1/8 of
 the default step (``yardstick.py``'s reference).  The last table is the worst workload
 per coefficient: ``faultnet.accuracy.CALIBRATION`` holds it::
 

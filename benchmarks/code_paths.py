@@ -4,9 +4,8 @@ For each workload and accuracy level the table gives the entry kernel and crossi
 that ``RunOptions(rtol=...)`` chooses, and the share of the work each path carried:
 ``solo`` (events that were one free block's cached slip), ``interp`` (crossings located by
 interpolation, per event), ``partial`` (block-steps of exact crossings' partial steps, as a
-share of all block-steps), ``local`` (block-steps in local regions), ``landed`` (joins landed
-by the exact treatment, per event).  A path whose column is zero everywhere is run by no
-calibrated setting.
+share of all block-steps), ``landed`` (joins landed by the exact treatment, per event).  A path
+whose column is zero everywhere is run by no calibrated setting.
 
     python benchmarks/code_paths.py                 # 20,000 events per row
     python benchmarks/code_paths.py --events 5000   # quicker
@@ -51,7 +50,7 @@ def row(name, graph, alpha, level, n_events):
         f"| {name} | {level} | {options.entry(model).replace('run_events_', '')} "
         f"| {md['crossings']} | {md['solo_events'] / n_events:.2f} "
         f"| {md['interpolated_crossings'] / n_events:.1f} "
-        f"| {md['partial_block_steps'] / steps:.3f} | {md['region_block_steps'] / steps:.3f} "
+        f"| {md['partial_block_steps'] / steps:.3f} "
         f"| {md['landed_joins'] / n_events:.2f} |"
     )
 
@@ -60,7 +59,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--events", type=int, default=20_000)
     args = parser.parse_args(argv)
-    print("| workload | level | entry | crossings | solo | interp | partial | local | landed |")
+    print("| workload | level | entry | crossings | solo | interp | partial | landed |")
     print("|---|---|---|---|---|---|---|---|---|")
     for name, (graph, alpha) in workloads(rng=7).items():
         for level in RTOLS:

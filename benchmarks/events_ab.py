@@ -38,7 +38,7 @@ import time
 import numpy as np
 from run import SIGMA, WORKLOADS, K, _warm_state, build_graph
 
-COUNTERS = ("partial_block_steps", "region_block_steps", "landed_joins")
+COUNTERS = ("partial_block_steps", "landed_joins", "interpolated_crossings")
 
 
 def _model(wid):
@@ -84,13 +84,11 @@ def save(wid, path, min_blocks, count, events, transient_t, max_blocks=None):
     )
 
 
-def time_events(path, repeat, local_from=None, rtol=None):
+def time_events(path, repeat, rtol=None):
     """Each saved event alone; returns the row printed (a dict)."""
     import faultnet
 
     options = faultnet.RunOptions() if rtol is None else faultnet.RunOptions(rtol=rtol)
-    if local_from is not None:
-        options = options.replace(local_regions_from=local_from)
 
     d = np.load(path)
     wid = str(d["wid"])
@@ -118,7 +116,6 @@ def time_events(path, repeat, local_from=None, rtol=None):
         "code": os.path.dirname(os.path.dirname(faultnet.__file__)),
         "events": len(states),
         "rtol": options.rtol,
-        "local_regions_from": options.regions_from(model),
         "loop_s": loop,
         "us_per_event": 1e6 * loop / len(states),
         "ns_per_block_step": 1e9 * loop / work["block_steps"] if work["block_steps"] else None,
@@ -127,7 +124,7 @@ def time_events(path, repeat, local_from=None, rtol=None):
         "max_rel_dS": float(np.max(np.abs(np.array(slips) / d["S"] - 1.0))),
     }
     print(
-        f"{wid} {row['code']} (rtol {row['rtol']:g}, regions from {row['local_regions_from']:g}): "
+        f"{wid} {row['code']} (rtol {row['rtol']:g}): "
         f"{row['events']} events {loop:.3f} s ({row['us_per_event']:.1f} µs each), "
         f"{work['block_steps']:,} block-steps"
         + (f" ({row['ns_per_block_step']:.1f} ns each), " if work["block_steps"] else ", ")
@@ -152,11 +149,6 @@ def main(argv=None):
     tm.add_argument("path", help=".npz file written by save")
     tm.add_argument("--repeat", type=int, default=3, help="rounds; the fastest counts")
     tm.add_argument("--json", help="append the row as a JSON line to this file")
-    tm.add_argument(
-        "--local-from",
-        type=float,
-        help="RunOptions.local_regions_from for this run (default: the model's)",
-    )
     tm.add_argument("--rtol", type=float, help="RunOptions.rtol for this run (default 1e-6)")
     args = ap.parse_args(argv)
     if args.cmd == "save":
@@ -178,7 +170,7 @@ def main(argv=None):
         return
     if args.repeat < 1:
         ap.error("--repeat must be >= 1")
-    row = time_events(args.path, args.repeat, args.local_from, args.rtol)
+    row = time_events(args.path, args.repeat, args.rtol)
     if args.json:
         with open(args.json, "a") as fh:
             fh.write(json.dumps(row) + "\n")

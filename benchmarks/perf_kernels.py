@@ -1,10 +1,7 @@
 """Where a workload's time goes, kernel by kernel: Linux ``perf`` with the kernels' symbols.
 
-Numba's compiled code has no symbols that ``perf`` can see.  The child compiles every kernel
-through Numba's own pipeline, not the link-only one the kernels use
-(:mod:`faultnet._kernels.linking`), so that each kernel keeps a function of its own: with
-link-only kernels LLVM inlines nearly all of them into the entry, and its samples would carry
-no kernel's name.  The shares are those of that build, which runs 7-10% slower.
+Numba's compiled code has no symbols that ``perf`` can see.  Each kernel keeps a function of
+its own where LLVM does not inline it into its callers; an inlined kernel counts as its caller.
 
 This script runs a workload under ``perf record`` in a child process that compiles the kernels
 into a fresh Numba cache (so each kernel's object code is at hand), writes
@@ -34,8 +31,8 @@ import time
 
 #: kernel modules whose compiled functions get symbols
 MODULES = (
-    "events", "slip", "solo", "integrate", "interp", "late_joins", "local", "landing", "stepping",
-    "dopri", "crossing", "tree", "tableau", "response",
+    "events", "slip", "solo", "physics", "interp", "late_joins", "landing", "stepping", "roots",
+    "dopri", "crossing", "tree", "tableau", "response", "work",
 )  # fmt: skip
 
 
@@ -79,7 +76,7 @@ def write_perf_map():
 
     rows = {}
     for mod_name in MODULES:
-        mod = importlib.import_module(f"faultnet._kernels.{mod_name}")
+        mod = importlib.import_module(f"faultnet._kernels.carlson_langer.{mod_name}")
         for value in vars(mod).values():
             if not isinstance(value, numba.core.registry.CPUDispatcher):
                 continue
@@ -105,11 +102,6 @@ def write_perf_map():
 def _child(wid, rtol, events, crossings):
     here = os.path.dirname(os.path.abspath(__file__))
     sys.path[:0] = [here, os.path.dirname(here)]  # run.py, and this checkout's faultnet
-    # Numba's own pipeline for every kernel, so that each keeps a function of its own: the
-    # link-only kernels (faultnet._kernels.linking) end up almost all inlined into the entry
-    import faultnet._kernels.linking as linking
-
-    linking.PIPELINE = None
     from run import SIGMA, WORKLOADS, K, _tiled_state, _warm_state, build_graph
 
     import faultnet

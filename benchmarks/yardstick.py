@@ -18,7 +18,7 @@ statistics   2e-5    0.01             ``faultnet.accuracy.step_for_rtol(model, 2
 
 Accuracy: the 90th percentile of ``|S / S_true - 1|`` over ``--accuracy-events`` consecutive
 multi-block events of the steady state, each run alone from its own pre-event state by both
-codes; ``S_true`` is faultnet's exact-crossing treatment without local regions at 1/8 of its
+codes; ``S_true`` is faultnet's exact-crossing treatment at 1/8 of its
 default step (the check column gives the yardstick at dt 0.0035 / 4 against the same reference,
 an independent confirmation of it).
 
@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import math
 import os
 import sys
 import time
@@ -97,7 +96,7 @@ def _pre_event_states(model, start, count, max_events):
 def _fine_S(model, states):
     import faultnet
 
-    fine = faultnet.RunOptions(dt=faultnet.default_dt(model) * FINE, local_regions_from=math.inf)
+    fine = faultnet.RunOptions(dt=faultnet.default_dt(model) * FINE, crossings="exact")
     return np.array(
         [
             float(faultnet.simulate(model, 1, x0=st, progress=False, options=fine).events.S.iloc[0])
@@ -157,10 +156,7 @@ def workload(wid, args, clsim, transient_t):
             wall_f, res = _run_faultnet(model, start, args.events, opts)
             tf.append(args.events / wall_f)
             md = res.metadata
-            work = {
-                k: md.get(k, 0) / args.events
-                for k in ("block_steps", "partial_block_steps", "region_block_steps")
-            }
+            work = {k: md.get(k, 0) / args.events for k in ("block_steps", "partial_block_steps")}
             y = clsim.Sim(graph, K, SIGMA, alpha, ydt, x_rel)
             tic = time.perf_counter()
             out = y.run(args.events)
@@ -182,7 +178,6 @@ def workload(wid, args, clsim, transient_t):
             ydt=ydt,
             fn_bs=work["block_steps"],
             fn_part=work["partial_block_steps"],
-            fn_reg=work["region_block_steps"],
             yard_bs=ybs,
         )
         rows.append(row)
@@ -192,7 +187,7 @@ def workload(wid, args, clsim, transient_t):
 
 HEADER = (
     f"{'wl':3} {'level':10} {'faultnet ev/s':>24} {'90% err':>8} {'yardstick ev/s':>24} "
-    f"{'90% err':>8} {'ratio':>5} {'fn bs/ev':>8} {'part':>5} {'regn':>5} {'yd bs/ev':>8} "
+    f"{'90% err':>8} {'ratio':>5} {'fn bs/ev':>8} {'part':>5} {'yd bs/ev':>8} "
     f"{'check':>7}  faultnet options"
 )
 
@@ -205,7 +200,7 @@ def _print_row(r):
         f"{r['wid']:3} {r['level']:10} {rate(r['fn'], r['fn_all']):>24} {r['err_f']:8.1e} "
         f"{rate(r['yard'], r['yard_all']):>24} {r['err_y']:8.1e} {r['fn'] / r['yard']:5.2f} "
         f"{r['fn_bs']:8.0f} {r['fn_part'] / max(r['fn_bs'], 1e-300):5.2f} "
-        f"{r['fn_reg'] / max(r['fn_bs'], 1e-300):5.2f} {r['yard_bs']:8.0f} {r['check']:7.1e}  "
+        f"{r['yard_bs']:8.0f} {r['check']:7.1e}  "
         f"dt {r['opts'].dt:.4g} (coef {r['opts'].coefficient:.3g}), {r['opts'].crossings}; "
         f"state at t = {r['t']:g}",
         flush=True,

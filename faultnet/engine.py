@@ -2,11 +2,11 @@
 
 The plate is never time-stepped: between events it jumps analytically to the
 next failure (a tournament tree over per-block failure keys).  Inside an event
-only the slipping blocks are integrated, with Dormand-Prince 5(4) (default) or
-classical RK4 at a fixed step ``dt``; stick (v -> 0) and join (F -> 1) instants
-are located inside a step (on the DP5 dense output, or a cubic Hermite
-interpolant for RK4) and the step is redone up to that instant, so the scheme
-keeps its order (see ``tests/test_convergence.py``).
+only the slipping blocks are integrated, with Dormand-Prince 5(4) at a fixed step
+``dt``; stick (v -> 0) and join (F -> 1) instants are located on the step's dense
+output and either the step is redone up to each (exact crossings: the scheme keeps
+its order, see ``tests/test_convergence.py``) or the crossings are applied at the
+step's end from what it computed (interpolated crossings, ``faultnet.accuracy``).
 
 A :class:`Simulator` allocates the kernel's arrays once (topology, state, work
 space); each :meth:`Simulator.advance` only allocates that chunk's catalog.

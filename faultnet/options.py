@@ -55,13 +55,14 @@ DEFAULT_RTOL = 1e-6
 REMOVED = {
     "method='rk4'": (
         "method='rk4' was removed in faultnet 0.3.0: events are integrated with 'dopri5' "
-        "(Dormand-Prince 5(4)) only; leave method out, and pass dt=<step> for a fixed step "
-        "of your own or rtol=<accuracy> for a calibrated one"
+        "(Dormand-Prince 5(4)) only; leave method out, and pass dt=<step> (--dt) for a fixed "
+        "step of your own or rtol=<accuracy> (--rtol) for a calibrated one"
     ),
     "local_regions_from": (
         "local_regions_from was removed in faultnet 0.3.0: large events on 2-D graphs take "
         "crossings='interpolated' (the default there, and faster than the local regions "
-        "were); pass crossings='exact' for the fifth-order treatment of every crossing"
+        "were); pass crossings='exact' (--crossings exact) for the fifth-order treatment of "
+        "every crossing"
     ),
 }
 #: crossing treatments (each has its entry kernel, see :meth:`RunOptions.entry`)

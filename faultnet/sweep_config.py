@@ -26,7 +26,7 @@ Sweep file (TOML)
     rtol = 2e-5                  # optional: target accuracy of slips (faultnet.RunOptions.rtol)
 
     [sweep.options]              # optional: any other faultnet.RunOptions field
-    crossings = "interpolated"   # e.g. method, crossings, solo_cache, local_regions_from
+    crossings = "interpolated"   # e.g. crossings, solo_cache, max_event_duration
 
     [sweep.vars]                 # optional: lists substituted into "{name}" in graph specs
     L = [32, 64]

@@ -1,9 +1,9 @@
 """The accuracy knob: at the settings of ``step_for_rtol`` typical slips are within rtol.
 
-The reference is the exact crossing treatment without local regions at 1/16 of the
-default step (fifth order: about 1e-12 relative on these events).  A ring of 200 blocks
-at alpha 1 (the workloads' ring, smaller) and a periodic 12^2 lattice, 24 consecutive
-multi-block events each, every event run alone from its own pre-event state.
+The reference is the exact crossing treatment at 1/16 of the default step (fifth order:
+about 1e-12 relative on these events).  A ring of 200 blocks at alpha 1 (the workloads'
+ring, smaller) and a periodic 12^2 lattice, 24 consecutive multi-block events each, every
+event run alone from its own pre-event state.
 """
 
 import warnings
@@ -38,9 +38,8 @@ def _events(model, count=24):
     return states
 
 
-def _slips(model, states, dt, crossings, local_from=32):
-    local_from = local_from if crossings == "exact" else None  # regions: exact crossings only
-    opts = faultnet.RunOptions(dt=dt, crossings=crossings, local_regions_from=local_from)
+def _slips(model, states, dt, crossings):
+    opts = faultnet.RunOptions(dt=dt, crossings=crossings)
     return np.array(
         [faultnet.simulate(model, 1, x0=s, progress=False, options=opts).events.S.iloc[0]
          for s in states]
@@ -51,7 +50,7 @@ def _slips(model, states, dt, crossings, local_from=32):
 def test_slip_error_within_rtol(kind):
     model = _model(kind)
     states = _events(model)
-    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact", float("inf"))
+    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact")
     for rtol in (1e-7, 1e-6, 2e-5, 1e-4):
         choice = step_for_rtol(model, rtol)
         S = _slips(model, states, choice.dt, choice.crossings)
@@ -70,7 +69,7 @@ def test_interpolated_crossings_order():
     """Halving the step with interpolated crossings cuts the error about 16-fold (4th order)."""
     model = _model("ring")
     states = _events(model, 16)
-    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact", float("inf"))
+    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact")
     root = omega2_max(model) ** 0.5
     errs = []
     for coef in (0.2, 0.1):
@@ -82,7 +81,7 @@ def test_interpolated_crossings_order():
 @pytest.mark.parametrize("kind", ["ring", "lattice"])
 def test_interpolated_two_block_events_as_accurate_as_exact(kind):
     """A 2-block event has one interpolated join and two stops: with the neighbours' answer
-    to each crossing (friction and springs, ``_kernels.response``) its slip is as accurate as
+    to each crossing (friction and springs, ``carlson_langer.response``) its slip is as accurate as
     the exact treatment's at the same step (without that answer it is 10-15 times the exact
     treatment's error)."""
     model = _model(kind)
@@ -92,10 +91,10 @@ def test_interpolated_two_block_events_as_accurate_as_exact(kind):
         if int(faultnet.simulate(model, 1, x0=s, progress=False).events.n_blocks.iloc[0]) == 2
     ]  # fmt: skip
     assert len(two) >= 6
-    ref = _slips(model, two, faultnet.default_dt(model) / 16, "exact", float("inf"))
+    ref = _slips(model, two, faultnet.default_dt(model) / 16, "exact")
     dt = 0.5 / omega2_max(model) ** 0.5
     err = {
-        crossings: np.quantile(np.abs(_slips(model, two, dt, crossings, np.inf) / ref - 1), 0.9)
+        crossings: np.quantile(np.abs(_slips(model, two, dt, crossings) / ref - 1), 0.9)
         for crossings in ("interpolated", "exact")
     }
     assert err["interpolated"] <= 1.5 * err["exact"], err
@@ -105,7 +104,7 @@ def test_interpolated_two_block_events_as_accurate_as_exact(kind):
 @pytest.mark.parametrize("kind", ["square", "triangular"])
 def test_interpolated_worst_event_near_exact(kind):
     """At a long step (coefficient 0.6) joins chain within a step and stops reveal joins.  On
-    their neighbours' paths (``_kernels.late_joins``, ``interp._chained``) the worst of 40
+    their neighbours' paths (``carlson_langer.late_joins``, ``interp._chained``) the worst of 40
     events of up to 30 blocks stays within 3 times the exact treatment's worst; with chained
     joins one Newton step early and revealed joins started back from the step's end, single
     events were off by 1e-3 (square) and 2e-2 (triangular lattice).  The events come from a
@@ -121,10 +120,10 @@ def test_interpolated_worst_event_near_exact(kind):
         if 1 < int(res.events.n_blocks.iloc[0]) <= 30:
             states.append(state)
         state = res.state
-    ref = _slips(model, states, dt0 / 16, "exact", float("inf"))
+    ref = _slips(model, states, dt0 / 16, "exact")
     dt = 0.6 / omega2_max(model) ** 0.5
     worst = {
-        crossings: np.max(np.abs(_slips(model, states, dt, crossings, np.inf) / ref - 1))
+        crossings: np.max(np.abs(_slips(model, states, dt, crossings) / ref - 1))
         for crossings in ("interpolated", "exact")
     }
     assert worst["interpolated"] <= 3.0 * worst["exact"], worst
@@ -141,7 +140,7 @@ def test_rtol_outside_range_names_it(rtol):
 def test_crossings_value_checked():
     with pytest.raises(InvalidParameterError, match="crossings must be one of"):
         faultnet.RunOptions(crossings="fast")
-    with pytest.raises(InvalidParameterError, match="needs method 'dopri5'"):
+    with pytest.raises(InvalidParameterError, match="method='rk4' was removed"):
         faultnet.RunOptions(crossings="interpolated", method="rk4")
     with pytest.raises(InvalidParameterError, match="rtol must be between"):
         faultnet.simulate(_model("ring"), 1, rng=1, progress=False, rtol=1e-3)
@@ -158,7 +157,7 @@ def test_high_alpha_ring_within_rtol():
         if int(res.events.n_blocks.iloc[0]) > 1:
             states.append(state)
         state = res.state
-    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact", float("inf"))
+    ref = _slips(model, states, faultnet.default_dt(model) / 16, "exact")
     alpha2 = faultnet.CarlsonLanger(faultnet.graphs.ring(600), alpha=2.0)
     low = step_for_rtol(alpha2, 2e-5, crossings="exact")
     choice = step_for_rtol(model, 2e-5)

@@ -222,7 +222,7 @@ def test_resume_from_the_command_line(tmp_path, capsys):
     assert "600 of 2,000 events committed" in capsys.readouterr().out
     assert main(["simulate", "--resume", "--alpha", "2", "--out", str(out)]) == 2
     assert "alpha: checkpoint has 1.5, this call 2.0" in capsys.readouterr().err
-    assert main(["simulate", "--resume", "--method", "rk4", "--out", str(out)]) == 2
+    assert main(["simulate", "--resume", "--no-solo-cache", "--out", str(out)]) == 2
     assert "options: checkpoint has" in capsys.readouterr().err  # other run options refused
     assert main(["simulate", "--resume", "--out", str(out)]) == 0  # the rest comes from run.json
     assert "resumed at event 600" in capsys.readouterr().out
@@ -262,20 +262,49 @@ def test_sweep_and_summarize_commands(tmp_path, capsys):
 
 
 def test_run_option_flags_reach_the_catalog(tmp_path, capsys):
-    out = tmp_path / "rk4.parquet"
+    out = tmp_path / "exact.parquet"
     args = ["simulate", "ring:20", "--events", "300", "--seed", "2", "--out", str(out)]
-    flags = ["--method", "rk4", "--no-solo-cache", "--local-regions-from", "inf"]
+    flags = ["--method", "dopri5", "--no-solo-cache", "--crossings", "exact", "--rtol", "1e-5"]
     assert main([*args, *flags, "--no-progress"]) == 0
-    assert "numerics    rk4, rtol=none: dt=" in capsys.readouterr().out
+    assert "numerics    dopri5, rtol=1e-05: dt=" in capsys.readouterr().out
     md = read_catalog(out).metadata
-    assert md["options"]["method"] == "rk4" and md["options"]["solo_cache"] is False
-    assert md["options"]["local_regions_from"] == "inf"
+    assert md["options"]["method"] == "dopri5" and md["options"]["solo_cache"] is False
+    assert md["options"]["crossings"] == "exact" and md["options"]["rtol"] == 1e-5
+    assert "local_regions_from" not in md["options"]
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(20))
-    opts = faultnet.RunOptions(method="rk4", solo_cache=False, local_regions_from=float("inf"))
+    opts = faultnet.RunOptions(solo_cache=False, crossings="exact", rtol=1e-5)
     ref = faultnet.simulate(model, 300, rng=2, progress=False, options=opts)
     pd.testing.assert_frame_equal(read_catalog(out).events, ref.events, check_exact=True)
-    assert main(["simulate", "ring:20", "--events", "5", "--local-regions-from", "0"]) == 2
-    assert "--local-regions-from" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "flags, removed",
+    [
+        (["--method", "rk4"], "method='rk4'"),
+        (["--local-regions-from", "inf"], "local_regions_from"),
+        (["--local-regions-from", "32"], "local_regions_from"),
+    ],
+)
+def test_removed_run_options_name_what_to_use_instead(tmp_path, capsys, flags, removed):
+    """RK4 and local regions are gone: the flags still parse, and the run is refused with
+    RunOptions' message, which names the alternative, before anything is written."""
+    from faultnet.options import REMOVED
+
+    out = tmp_path / "c.parquet"
+    args = ["simulate", "ring:20", "--events", "5", "--out", str(out), *flags]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert REMOVED[removed] in err
+    assert ("'dopri5'" if removed.startswith("method") else "crossings='interpolated'") in err
+    assert not out.exists()
+
+
+def test_method_flag_lists_dopri5_and_local_regions_flag_is_hidden(capsys):
+    assert main(["simulate", "--help"]) == 0
+    text = capsys.readouterr().out
+    assert "--local-regions-from" not in text and "--method {dopri5}" in text
+    assert main(["simulate", "ring:20", "--events", "5", "--method", "euler"]) == 2
+    assert "method must be one of ['dopri5']; got 'euler'" in capsys.readouterr().err
 
 
 def test_simulate_default_fits_leave_out_transient_and_top_percent(tmp_path, capsys):

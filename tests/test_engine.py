@@ -124,7 +124,9 @@ def test_slip_event_returns_state_and_row():
         ({"options": {"dt": 1e-12}}, "dt=1e-12 is too small"),
         ({"options": {"smoothing": 1}}, r"unknown run option.*smoothing"),
         ({"options": "fast"}, "options must be a RunOptions"),
-        ({"method": "euler"}, r"method must be one of \['dopri5', 'rk4'\]"),
+        ({"method": "euler"}, r"method must be one of \['dopri5'\]; got 'euler'"),
+        ({"method": "rk4"}, r"method='rk4' was removed.*'dopri5'"),
+        ({"options": {"local_regions_from": 8}}, r"local_regions_from was removed.*crossings="),
     ],
 )
 def test_bad_run_input(kwargs, match):
@@ -159,35 +161,6 @@ def test_slip_recording_is_bounded():
     assert len(cut.slips) == 100 and cut.slips.attrs["truncated"]
     pd.testing.assert_frame_equal(cut.slips, full.slips.iloc[:100])
     pd.testing.assert_frame_equal(cut.events, full.events)
-
-
-def test_scheme_is_a_compile_time_literal():
-    """The steppers choose RK4 or DP5 while typing: a runtime scheme is a clear typing error.
-
-    (Each scheme has its own entry kernel, so a run compiles only its own scheme's code.)
-    """
-    import numba as nb
-
-    from faultnet._kernels.bundles import Graph, Work
-    from faultnet._kernels.stepping import step_scan
-
-    @nb.njit
-    def scan_with(method, W, IW, ivec, fvec):
-        graph = Graph(ivec, ivec, fvec, fvec, fvec, fvec, 0.0, IW[:0])
-        return step_scan(method, 0.1, 0, 0, 1.0, 1, graph, Work(W, IW, fvec, ivec))
-
-    W, IW = np.zeros((4, 12)), np.zeros((12, 2), dtype=np.int64)
-    ivec, fvec = np.zeros(3, dtype=np.int64), np.zeros(6)
-    with pytest.raises(nb.errors.TypingError, match="literal 0 or 1"):
-        scan_with(1, W, IW, ivec, fvec)
-    # both entry kernels integrate the same events: each scheme's S is within 1e-6 of the
-    # dt -> 0 limit (the accuracy bound, tests/test_convergence.py), so they differ by < 2e-6
-    # (2.7e-7 seen)
-    model = faultnet.CarlsonLanger(faultnet.graphs.ring(12))
-    dp5 = faultnet.simulate(model, 20, rng=3).events
-    rk4 = faultnet.simulate(model, 20, rng=3, method="rk4").events
-    assert (dp5.hypocenter == rk4.hypocenter).all()
-    np.testing.assert_allclose(dp5.S, rk4.S, rtol=2e-6)
 
 
 def _ring(alpha=1.0, n=40):
@@ -229,10 +202,10 @@ def test_set_model_equals_a_fresh_run_from_the_state():
 
 def test_options_are_recorded_and_change_results():
     model = _ring()
-    exact = faultnet.RunOptions(solo_cache=False, local_regions_from=float("inf"))
+    exact = faultnet.RunOptions(solo_cache=False, crossings="exact")
     res = faultnet.simulate(model, 200, rng=1, progress=False, options=exact)
     assert res.metadata["options"] == exact.to_dict()
-    assert res.metadata["options"]["local_regions_from"] == "inf"
+    assert res.metadata["options"]["crossings"] == "exact"
     assert faultnet.RunOptions.from_dict(res.metadata["options"]) == exact
     assert res.metadata["solo_events"] == 0
     assert faultnet.simulate(model, 200, rng=1, progress=False).metadata["solo_events"] > 0

@@ -9,9 +9,8 @@ import numpy as np
 import pytest
 
 from faultnet._kernels.bundles import Work
-from faultnet._kernels.context import LOC_SIZE
-from faultnet._kernels.integrate import CAND, N_IWORK, N_WORK, VS
-from faultnet._kernels.interp import _order
+from faultnet._kernels.carlson_langer.interp import _order
+from faultnet._kernels.carlson_langer.work import CAND, LOC_SIZE, N_IWORK, N_WORK, VS
 from faultnet._kernels.layout import CNT_SIZE
 
 

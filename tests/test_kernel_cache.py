@@ -4,6 +4,7 @@ import os
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import pytest
 
@@ -71,15 +72,47 @@ def test_stamp_follows_contents_not_file_times(tmp_path):
     (tmp_path / "b.py").write_text("y = 3\n")
     assert cache.sources_stamp(tmp_path) != first
     (tmp_path / "b.py").write_text("y = 2\n")
+    assert cache.sources_stamp(tmp_path) == first
     (tmp_path / "c.py").write_text("")
     assert cache.sources_stamp(tmp_path) != first
 
 
-def test_every_entry_kernel_is_cached_under_the_shared_stamp():
-    from faultnet._kernels import events
+def test_stamp_covers_the_folders_below(tmp_path):
+    """The kernels live in subpackages (``carlson_langer/``): their sources count too, and
+    where they are; caches and hidden folders do not."""
+    (tmp_path / "a.py").write_text("x = 1\n")
+    sub = tmp_path / "engine"
+    sub.mkdir()
+    (sub / "step.py").write_text("y = 2\n")
+    first = cache.sources_stamp(tmp_path)
+    (sub / "step.py").write_text("y = 3\n")
+    changed = cache.sources_stamp(tmp_path)
+    assert changed != first
+    (sub / "step.py").write_text("y = 2\n")
+    assert cache.sources_stamp(tmp_path) == first
+    for skipped in ("__pycache__", ".hidden"):
+        (tmp_path / skipped).mkdir()
+        (tmp_path / skipped / "junk.py").write_text("z = 0\n")
+        assert cache.sources_stamp(tmp_path) == first
+    (sub / "step.py").rename(tmp_path / "step.py")  # the same file in another folder
+    assert cache.sources_stamp(tmp_path) != first
+    # a folder that cannot be listed has no stamp (not the stamp of no sources)
+    with pytest.raises(OSError):
+        cache.sources_stamp(tmp_path / "missing")
+
+
+def test_every_kernel_is_cached_under_the_shared_stamp():
+    """The entries and the inner kernels of ``carlson_langer/``, under one stamp of all the
+    sources below ``faultnet/_kernels``."""
+    from faultnet._kernels.carlson_langer import dopri, events, physics
 
     stamp = cache.sources_stamp(cache.KERNELS_DIR)
-    for dispatcher in (events.run_events_dopri5_interpolated, events.run_events_rk4):
+    for dispatcher in (
+        events.run_events_dopri5,
+        events.run_events_dopri5_interpolated,
+        dopri.dopri_step,
+        physics.force,
+    ):
         locator = dispatcher._cache._impl.locator
         assert isinstance(locator, cache.SourcesLocator)
         assert locator.get_source_stamp() == stamp
@@ -172,8 +205,12 @@ def test_a_real_kernel_with_one_byte_changed_gives_the_same_catalog(tmp_path):
     """The severe case: one changed byte of machine code ran and gave a different catalog."""
     cache_dir = tmp_path / "numba_cache"
     first, err = _catalog_hash(cache_dir)
+    # every kernel has its files; the entry kernel's code holds the kernels it calls
     (path,) = [
-        os.path.join(d, f) for d, _, fs in os.walk(cache_dir) for f in fs if f.endswith(".nbc")
+        os.path.join(d, f)
+        for d, _, fs in os.walk(cache_dir)
+        for f in fs
+        if f.startswith("events.run_events_") and f.endswith(".nbc")
     ]
     with open(path, "rb") as fh:
         data = fh.read()
@@ -211,7 +248,11 @@ def test_no_writable_cache_folder_runs_with_one_line(tmp_path):
     shutil.copytree(
         src, tmp_path / "pkg" / "faultnet", ignore=shutil.ignore_patterns("__pycache__")
     )
-    (tmp_path / "pkg" / "faultnet" / "_kernels" / "__pycache__").write_text("not a folder")
+    # every folder of kernels (faultnet/_kernels and its subpackages) is read-only: its
+    # __pycache__ cannot be made
+    for folder, _, files in os.walk(tmp_path / "pkg" / "faultnet" / "_kernels"):
+        if any(f.endswith(".py") for f in files):
+            (Path(folder) / "__pycache__").write_text("not a folder")
     blocker = tmp_path / "a-file"
     blocker.write_text("")
     env = {

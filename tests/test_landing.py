@@ -1,6 +1,6 @@
-"""Landing on a join (faultnet._kernels.landing) against a finely integrated reference.
+"""Landing on a join (``carlson_langer.landing``) against a finely integrated reference.
 
-Also the crossings a local region starts from: those the outer step located.
+Also the crossings a step's scan lists for the interpolated treatment (scan mode 2).
 """
 
 import numba as nb
@@ -10,38 +10,31 @@ import pytest
 import faultnet
 from faultnet import default_dt
 from faultnet._kernels.bundles import Work, graph_bundle, work_array
-from faultnet._kernels.context import (
-    LOC_BND_END,
-    LOC_BND_START,
-    LOC_NCAND,
-    LOC_OUTER_H,
-    LOC_REGION_T,
-    LOC_SIZE,
-    LOC_THETA,
-)
-from faultnet._kernels.crossing import JOIN, STICK
-from faultnet._kernels.dopri import cache_boundary, dopri_step
-from faultnet._kernels.integrate import (
+from faultnet._kernels.carlson_langer.crossing import JOIN, join_theta
+from faultnet._kernels.carlson_langer.dopri import dopri_step
+from faultnet._kernels.carlson_langer.landing import land, septic_coeffs
+from faultnet._kernels.carlson_langer.physics import accel, force
+from faultnet._kernels.carlson_langer.stepping import activate, commit, touch
+from faultnet._kernels.carlson_langer.work import (
     ACT,
     ACTIVE,
-    APOS,
-    BND,
+    AN,
     CAND,
+    DN,
     FLAG,
+    LOC_NCAND,
+    LOC_SIZE,
+    LOC_THETA,
     N_IWORK,
     N_WORK,
-    REGION,
+    P2,
+    VN,
     A,
     D,
     P,
     V,
-    accel,
-    force,
 )
-from faultnet._kernels.landing import land, septic_coeffs
 from faultnet._kernels.layout import CNT_SIZE
-from faultnet._kernels.local import _collect, _first_crossing, _listed
-from faultnet._kernels.stepping import activate, commit, touch
 
 
 @nb.njit(cache=False)
@@ -77,20 +70,20 @@ def _to_join_step(h, nact, W, IW, graph, loc):
     """Full steps, committed, until one has a join inside: (theta, who, steps)."""
     graph, work = _bundles(W, IW, graph, loc)
     for n in range(10000):
-        th, who, kind, status = dopri_step(h, 0, nact, True, 1e6, graph, work)
+        th, who, kind, status = dopri_step(h, nact, 1, 1e6, graph, work)
         if who >= 0:
             if kind == JOIN and th > 0.0:
                 return th, who, n
             return -1.0, who, n
-        commit(0, nact, W, IW)
+        commit(nact, W, IW)
     return -1.0, -1, 10000
 
 
 @nb.njit(cache=False)
-def _land(th, who, h, q0, nact, W, IW, graph, loc):
-    """A whole event's landing (q0 = 0) or a region's, on the region's step (qb = q0)."""
+def _land(th, who, h, nact, W, IW, graph, loc):
+    """Land the active blocks on the join of ``who`` inside the step just taken."""
     graph, work = _bundles(W, IW, graph, loc)
-    return land(th, who, h, q0, q0, nact, graph, work)
+    return land(th, who, h, nact, graph, work)
 
 
 @nb.njit(cache=False)
@@ -98,8 +91,8 @@ def _fine(h, m, nact, W, IW, graph, loc):
     """m committed DP5 steps of length h / m (no crossing scan)."""
     graph, work = _bundles(W, IW, graph, loc)
     for _ in range(m):
-        dopri_step(h / m, 0, nact, False, 1e6, graph, work)
-        commit(0, nact, W, IW)
+        dopri_step(h / m, nact, 0, 1e6, graph, work)
+        commit(nact, W, IW)
 
 
 @nb.njit(cache=False)
@@ -134,7 +127,6 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
     own); the joining block's force there is 1 to round-off.
     """
     n, arrays, h, W, IW, loc = _ring12(alpha)
-    loc[LOC_OUTER_H] = 1.0
     w = 0.0
     keys = np.full(n, 1.0)  # keys: plate position at which a block fails; force = 1 + w - key
     keys[5] = w
@@ -147,11 +139,11 @@ def test_landed_join_is_as_accurate_as_the_step(gap, alpha):
     # the full step's end against a fine integration over the whole step
     fine_end = W.copy()
     _fine(h, 256, nact, fine_end, IW, arrays, loc)
-    end = np.concatenate([W[act, 4] - fine_end[act, D], W[act, 5] - fine_end[act, V]])
+    end = np.concatenate([W[act, DN] - fine_end[act, D], W[act, VN] - fine_end[act, V]])
     step_err = np.abs(end).max()
 
     start = W.copy()
-    hl = _land(th, who, h, 0, nact, W, IW, arrays, loc)
+    hl = _land(th, who, h, nact, W, IW, arrays, loc)
     assert 0.0 < hl < h
     assert abs(hl / h - th) < 1e-4  # next to the dense output's estimate
     assert abs(_force(who, W, arrays) - 1.0) < 1e-13
@@ -182,161 +174,54 @@ def _slipping(blocks, vel, w, keys, W, IW, graph):
 
 
 @nb.njit(cache=False)
-def _region_step(h, q0, nact, W, IW, graph, loc):
-    graph, work = _bundles(W, IW, graph, loc)
-    return dopri_step(h, q0, nact, True, 1e6, graph, work)
-
-
-@nb.njit(cache=False)
-def _region_fine(h, m, q0, nact, W, IW, graph, loc):
-    """m committed region steps of length h / m, the boundary on the outer dense output."""
-    graph, work = _bundles(W, IW, graph, loc)
-    th0 = loc[LOC_REGION_T]
-    for s in range(m):
-        loc[LOC_REGION_T] = th0 + s * h / m / loc[LOC_OUTER_H]
-        dopri_step(h / m, q0, nact, False, 1e6, graph, work)
-        commit(q0, nact, W, IW)
-    loc[LOC_REGION_T] = th0
-
-
-@nb.njit(cache=False)
-def _cache(r, b, W, IW, loc):
-    cache_boundary(r, b, W, W[IW.shape[1] :], IW, loc)
-
-
-@pytest.mark.parametrize("alpha", [1.0, 2.0])
-@pytest.mark.parametrize("v_boundary", [0.2, 0.8])
-def test_landed_join_inside_a_local_region(alpha, v_boundary):
-    """Blocks 3, 4, 5 of a ring slip; a region {4, 5} with boundary 3 lands 6's join.
-
-    The boundary follows the outer step's dense output, so the region's blocks'
-    jerks and snaps need its velocity and acceleration at the region step's
-    ends (the quartic's derivatives).  The landed state must match a fine
-    integration of the region (its boundary on the same quartic) as closely as
-    the region step's own end does; treating the boundary as still (a mutant)
-    is orders of magnitude off.
-    """
-    n, arrays, hh, W, IW, loc = _ring12(alpha)
-    w = 0.0
-    keys = np.full(n, 0.5)  # every touched block well below the threshold ...
-    keys[3] = keys[4] = keys[5] = w  # ... but the slipping ones
-    vel = np.array([v_boundary, 0.5, 0.4])
-    keys[6] = w + 16.0 * 0.4 * 0.45 * hh  # block 6 joins about half-way through the step
-    nact = _slipping(np.array([3, 4, 5]), vel, w, keys, W, IW, arrays)
-    # the outer step (whole event, not committed): its stages give the boundary's dense output
-    _region_step(hh, 0, nact, W, IW, arrays, loc)
-    # the region {4, 5} in slots 3, 4 above the outer list; block 3 its boundary
-    q0 = nact
-    for q, b in enumerate((4, 5)):
-        IW[ACT, q0 + q] = b
-        IW[APOS, b] = q0 + q
-    end = q0 + 2
-    IW[BND, 0] = 3
-    loc[LOC_BND_START], loc[LOC_BND_END], loc[LOC_REGION_T], loc[LOC_OUTER_H] = 0.0, 1.0, 0.0, hh
-    _cache(0, 3, W, IW, loc)
-    # a region step from a quarter of the outer step to its end
-    th0 = 0.25
-    _region_fine(th0 * hh, 64, q0, end, W, IW, arrays, loc)
-    loc[LOC_REGION_T] = th0
-    h = (1.0 - th0) * hh
-    start = W.copy()
-    th, who, kind, status = _region_step(h, q0, end, W, IW, arrays, loc)
-    assert who == 6 and kind == JOIN and 0.0 < th < 1.0, (th, who, kind)
-    act = np.array([4, 5])
-    fine_end = start.copy()
-    _region_fine(h, 256, q0, end, fine_end, IW, arrays, loc)
-    step_err = np.abs(
-        np.concatenate([W[act, 4] - fine_end[act, D], W[act, 5] - fine_end[act, V]])
-    ).max()
-
-    hl = _land(th, who, h, q0, end, W, IW, arrays, loc)
-    assert 0.0 < hl < h
-    assert abs(hl / h - th) < 1e-4
-    assert abs(_force(who, W, arrays) - 1.0) < 1e-13
-    ref = start.copy()
-    _region_fine(hl, 256, q0, end, ref, IW, arrays, loc)
-    land_err = np.abs(np.concatenate([W[act, D] - ref[act, D], W[act, V] - ref[act, V]])).max()
-    # the boundary was placed at the join, and the accelerations use it there
-    assert abs(W[3, P] - ref[3, P]) < 1e-12
-    print(f"region step error {step_err:.2e}, landing error {land_err:.2e}, theta {th:.3f}")
-    assert step_err > 0.0
-    assert land_err <= 2.0 * step_err
-
-
-# A local region's first crossing, where the outer step located it (local._collect,
-# local._first_crossing): reached from the outer step, a join landed on it (qb = 0).
-
-
-@nb.njit(cache=False)
-def _first(cid, ncand, IW, loc):
-    return _first_crossing(cid, ncand, IW, loc)
-
-
-@nb.njit(cache=False)
-def _outer_scan(h, nact, W, IW, graph, loc):
-    """A whole-event step whose scan also lists every crossing (scan mode 2)."""
+def _scan(h, nact, mode, W, IW, graph, loc):
+    """One step with crossing scan ``mode`` (1: the earliest; 2: also list every crossing)."""
     loc[LOC_NCAND] = 0.0
     graph, work = _bundles(W, IW, graph, loc)
-    th, who, kind, status = dopri_step(h, 0, nact, 2, 1e6, graph, work)
+    th, who, kind, status = dopri_step(h, nact, mode, 1e6, graph, work)
     return th, who, kind
 
 
 @nb.njit(cache=False)
-def _listed_(mark, IW, loc):
-    return _listed(mark, IW, loc)
-
-
-@nb.njit(cache=False)
-def _collect_(h, nact, mark, W, IW, graph, loc):
+def _fresh_join(h, j, W, IW, graph, loc):
+    """Where j's force reaches 1 in the step just taken, and its force at the end, afresh."""
     graph, work = _bundles(W, IW, graph, loc)
-    return _collect(h, nact, mark, graph, work)
+    f0 = force(j, D, W, graph)
+    f1 = force(j, P2, W, graph)
+    return join_theta(h, j, f0, f1, graph, work), f1
 
 
-def test_first_crossing_is_the_earliest_located_candidate_of_the_component():
-    n = 20
-    IW = np.zeros((N_IWORK, n), dtype=np.int64)
-    loc = np.zeros(LOC_SIZE)
-    cand = [4, 9, 11, 15]
-    theta = [0.7, 0.2, 0.5, 0.1]
-    for k, (c, t) in enumerate(zip(cand, theta, strict=True)):
-        IW[CAND, k] = c
-        loc[LOC_THETA + k] = t
-    IW[REGION, [4, 9, 11]] = 5
-    IW[REGION, 15] = 6
-    IW[FLAG, 9] = ACTIVE  # a stop; the others are joins
-    assert _first(5, 4, IW, loc) == (0.2, 9, STICK)
-    assert _first(6, 4, IW, loc) == (0.1, 15, JOIN)
-    assert _first(5, 0, IW, loc)[1] == -1  # a retry: nothing located
-    assert _first(7, 4, IW, loc)[1] == -1  # no candidate
-    loc[LOC_THETA + 2] = 2.0  # one candidate of the component not located (a grazing stop)
-    assert _first(5, 4, IW, loc)[1] == -1
-    assert _first(6, 4, IW, loc) == (0.1, 15, JOIN)
-
-
-@pytest.mark.parametrize("v_boundary", [0.2, 0.8])
-def test_listed_crossings_match_the_outer_scan(v_boundary):
-    """The crossings the scan lists (each block once) are _collect's, with the scan's thetas.
+@pytest.mark.parametrize("v3", [0.2, 0.8])
+def test_listed_crossings_match_the_scan(v3):
+    """The interpolated scan (mode 2) lists every join, once per slipping neighbour.
 
     Blocks 3, 4, 5 and 7 of a ring slip: 6 joins, next to two slipping blocks
-    (listed twice by the scan), 2 joins later or not at all.
+    (evaluated once, listed twice from what was kept), 2 joins later.
+    Each listed join sits where a fresh evaluation puts it, the earliest is the one the
+    step returns, and the same step without the list (mode 1) returns the same crossing.
     """
     n, arrays, h, W, IW, loc = _ring12(1.0)
     keys = np.full(n, 0.5)
     keys[[3, 4, 5, 7]] = 0.0
     keys[6] = 16.0 * (0.4 + 0.3) * 0.45 * h  # joins about half-way through the step
-    keys[2] = 16.0 * v_boundary * 0.6 * h  # joins later, or not at all
-    vel = np.array([v_boundary, 0.5, 0.4, 0.3])
+    keys[2] = 16.0 * v3 * 0.6 * h  # joins later in the step
+    vel = np.array([v3, 0.5, 0.4, 0.3])
     nact = _slipping(np.array([3, 4, 5, 7]), vel, 0.0, keys, W, IW, arrays)
-    th, who, kind = _outer_scan(h, nact, W, IW, arrays, loc)
-    assert kind == JOIN and 0.0 < th < 1.0
-    raw = IW[CAND, : int(loc[LOC_NCAND])].tolist()
+    W1, IW1, loc1 = W.copy(), IW.copy(), loc.copy()
+    th, who, kind = _scan(h, nact, 2, W, IW, arrays, loc)
+    assert kind == JOIN and who == 6 and 0.0 < th < 1.0
+    ncand = int(loc[LOC_NCAND])
+    raw = IW[CAND, :ncand].tolist()
+    thetas = loc[LOC_THETA : LOC_THETA + ncand].tolist()
     assert raw.count(6) == 2
-    n = _listed_(98, IW, loc)
-    listed = IW[CAND, :n].tolist(), loc[LOC_THETA : LOC_THETA + n].tolist()
-    n = _collect_(h, nact, 99, W, IW, arrays, loc)
-    collected = IW[CAND, :n].tolist(), loc[LOC_THETA : LOC_THETA + n].tolist()
-    assert listed == collected
-    got = dict(zip(*listed, strict=True))
-    assert sorted(got) == sorted(set(raw))
-    assert got[who] == pytest.approx(th, abs=1e-13)
-    assert min(got.values()) == got[who]
+    assert all(IW[FLAG, j] != ACTIVE for j in raw)  # no stop in this step
+    for j, t in zip(raw, thetas, strict=True):
+        fresh, f1 = _fresh_join(h, j, W, IW, arrays, loc)
+        assert t == fresh and 0.0 < t < 1.0
+        assert W[j, AN] == f1 >= 1.0  # the force at the step's end, kept (k = 16: bit for bit)
+    assert min(thetas) == th
+    assert raw[thetas.index(th)] == who
+    assert (2 in raw) == (_fresh_join(h, 2, W, IW, arrays, loc)[1] >= 1.0)
+    # the scan without the list finds the same crossing, bit for bit
+    assert _scan(h, nact, 1, W1, IW1, arrays, loc1) == (th, who, kind)
+    assert loc1[LOC_NCAND] == 0.0

@@ -1,4 +1,4 @@
-"""Joins revealed by the crossings of an interpolated step (faultnet._kernels.late_joins).
+"""Joins revealed by the crossings of an interpolated step (``carlson_langer.late_joins``).
 
 A stuck block pushed over the threshold by a step's crossings crossed it inside the step.
 Before the commit it starts where its force, on its neighbours' paths (slipping: the dense
@@ -14,14 +14,16 @@ import numpy as np
 import pytest
 
 from faultnet._kernels.bundles import Work, graph_bundle, work_array
-from faultnet._kernels.context import LOC_SIZE
-from faultnet._kernels.integrate import (
+from faultnet._kernels.carlson_langer.late_joins import _late_start, _late_theta
+from faultnet._kernels.carlson_langer.tableau import KV
+from faultnet._kernels.carlson_langer.work import (
     ACTIVE,
     APOS,
     DN,
     F0,
     FLAG,
     JOINING,
+    LOC_SIZE,
     N_IWORK,
     N_WORK,
     SA,
@@ -35,9 +37,7 @@ from faultnet._kernels.integrate import (
     P,
     V,
 )
-from faultnet._kernels.late_joins import _late_start, _late_theta
 from faultnet._kernels.layout import CNT_SIZE
-from faultnet._kernels.tableau import KV
 
 K, SIGMA, ALPHA, H = 16.0, 0.01, 1.0, 0.04
 

@@ -12,7 +12,8 @@ import numpy as np
 import pytest
 
 from faultnet._kernels.bundles import graph_bundle, padded_neighbours, work_array
-from faultnet._kernels.integrate import F0, N_WORK, P, force, force_hot
+from faultnet._kernels.carlson_langer.physics import force, force_hot
+from faultnet._kernels.carlson_langer.work import F0, N_WORK, P
 
 
 @nb.njit(cache=False)

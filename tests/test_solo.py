@@ -7,9 +7,7 @@ import faultnet
 
 
 def run(model, n, x0, fast, **kw):
-    # the exact whole-event treatment of large events: local regions adapt their
-    # step to the crossings, so round-off differences could move their step grid
-    options = faultnet.RunOptions(solo_cache=fast, local_regions_from=float("inf"))
+    options = faultnet.RunOptions(solo_cache=fast)
     return faultnet.simulate(model, n, x0=x0, progress=False, options=options, **kw)
 
 

@@ -4,7 +4,8 @@ import numba as nb
 import numpy as np
 import pytest
 
-from faultnet._kernels.tree import _winner, empty_tree, tree_update
+from faultnet._kernels.bundles import empty_tree
+from faultnet._kernels.carlson_langer.tree import _winner, tree_update
 
 
 @nb.njit(cache=False)

@@ -73,7 +73,9 @@ def sources_stamp(directory):
     """SHA-256 (hex) of the paths and contents of the ``.py`` files under ``directory``, sorted."""
     digest = hashlib.sha256()
     names = []
-    for root, dirs, files in os.walk(directory):
+    # os.walk skips a folder it cannot list: raise instead (OSError: the sources are not in a
+    # readable folder, a zipped install), or the stamp would be a constant
+    for root, dirs, files in os.walk(directory, onerror=_raise):
         dirs[:] = [d for d in dirs if not d.startswith((".", "__"))]
         rel = os.path.relpath(root, directory)
         names += [os.path.normpath(os.path.join(rel, f)) for f in files if f.endswith(".py")]
@@ -81,6 +83,10 @@ def sources_stamp(directory):
         with open(os.path.join(directory, name), "rb") as fh:
             digest.update(name.encode() + b"\0" + fh.read() + b"\0")
     return digest.hexdigest()
+
+
+def _raise(exc):
+    raise exc
 
 
 @functools.cache
@@ -144,7 +150,7 @@ def register(directory=KERNELS_DIR):
         warnings.warn(
             "faultnet could not give its kernels one cache stamp (this Numba's caching module "
             "has no list of cache locators): after changing or upgrading faultnet, delete the "
-            "kernels' Numba cache (faultnet/_kernels/__pycache__/*.nbi, *.nbc)",
+            "kernels' Numba cache (faultnet/_kernels/**/__pycache__/*.nbi, *.nbc)",
             RuntimeWarning,
             stacklevel=2,
         )
@@ -283,7 +289,8 @@ def disk_cache_available(directory=KERNELS_DIR):
             continue
     where = os.environ.get("NUMBA_CACHE_DIR") or "~/.cache/numba"
     _say(
-        f"no writable folder for the kernel cache ({where}, {directory}/__pycache__): the "
+        f"no writable folder for the kernel cache ({where}, {os.path.dirname(py_file)}/"
+        f"__pycache__): the "
         f"kernels compile on every run; set NUMBA_CACHE_DIR to a writable folder to keep them"
     )
     return False

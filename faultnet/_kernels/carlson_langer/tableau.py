@@ -1,7 +1,7 @@
 """Dormand-Prince 5(4): coefficients, stage storage and the dense output.
 
 The tableau is written out as named constants so each stage pass of
-:func:`faultnet._kernels.dopri.dopri_step` is straight-line code with constant
+:func:`~.dopri.dopri_step` is straight-line code with constant
 coefficients (20% faster than loops over a coefficient array).
 """
 
@@ -16,7 +16,7 @@ __all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense", "stage_rows"]
 # 96 bytes, which counts on graphs that do not fit in the cache, and the kernels still take one
 # array (a second array in the ``Work`` bundle cost the ring W1 3-5%: every crossing kernel
 # takes the bundle).  :func:`stage_rows` is the view of those rows.
-KV = np.int64(0)  # 6 columns of stage velocities (int64, not a literal: see integrate.D)
+KV = np.int64(0)  # 6 columns of stage velocities (int64, not a literal: see work.D)
 KA = np.int64(6)  # 6 columns of stage accelerations
 N_STAGE = 12
 
