@@ -43,8 +43,12 @@ events on the triangular critical cluster was off by 9e-2 at coefficient 0.6 (no
 the 90th percentile over all of them was twice as large (2.2e-5 against 1.1e-5; on the
 periodic 150^2 lattice 2.9e-5 against 7.0e-6).
 
-``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
-:class:`~faultnet._kernels.bundles.Work`.
+Arguments: ``h`` the step's length, ``th`` a fraction of it, ``b``, ``j`` blocks, ``nact``,
+``ntouch`` the lengths of the active and touched lists, ``ncand`` the crossings listed in
+``IW[CAND]``, ``e`` an entry of that list (a join's block, ``-2 - b`` for a stop of b, -1
+dropped), ``w`` the plate position, ``keys`` the failure keys (for the blocks a join touches),
+``W`` the work array, ``graph`` and ``work`` the bundles
+:class:`~faultnet._kernels.bundles.Graph` and :class:`~faultnet._kernels.bundles.Work`.
 """
 
 from faultnet._kernels.carlson_langer.crossing import join_theta, stick_theta

@@ -26,8 +26,10 @@ Scratch columns (free outside a step), by slot q of the active list:
 step, ``K[q, KV + 3]``, ``K[q, KV + 4]`` the snaps, ``K[q, KV + 2]`` the
 landed velocity.
 
-``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
-:class:`~faultnet._kernels.bundles.Work`.
+Arguments: ``th`` and ``t`` fractions of the step of length ``h``, ``who`` the joining block,
+``i`` a slipping block, ``nact`` the number of slipping blocks, ``c0`` ... ``c7`` a degree-7
+polynomial's power-basis coefficients in the fraction of the step, ``graph`` and ``work`` the
+bundles :class:`~faultnet._kernels.bundles.Graph` and :class:`~faultnet._kernels.bundles.Work`.
 """
 
 from faultnet._kernels.carlson_langer.physics import accel, force, jerk_snap
@@ -65,8 +67,8 @@ _S1 = KV + 4
 def septic_coeffs(y0, d0, s0, t0, y1, d1, s1, t1):
     """Power-basis coefficients of the degree-7 Hermite interpolant on [0, 1].
 
-    ``y``, ``d``, ``s``, ``t``: the value and its first three derivatives
-    (in units of the interval) at 0 and at 1.
+    ``y0``, ``d0``, ``s0``, ``t0`` and ``y1``, ``d1``, ``s1``, ``t1``: the value and its first
+    three derivatives (in units of the interval) at 0 and at 1.
     """
     c2 = 0.5 * s0
     c3 = t0 / 6.0

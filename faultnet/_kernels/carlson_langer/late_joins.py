@@ -11,8 +11,11 @@ whole step late.  A block that stopped in the step and is over the threshold at 
 slips again (:func:`rejoin`), from where the force's expansion back from the end crosses 1
 (:func:`_late_start`).
 
-``graph`` and ``work`` are the bundles :class:`~faultnet._kernels.bundles.Graph` and
-:class:`~faultnet._kernels.bundles.Work`.
+Arguments: ``h`` the step's length, ``b``, ``j``, ``n`` blocks, ``s`` a fraction of the step,
+``nact``, ``ntouch``, ``ncand`` the lengths of the active, touched and crossing lists, ``w`` the
+plate position and ``keys`` the failure keys (for the blocks a join touches), ``W``, ``IW`` the
+work arrays and ``K`` their stage rows, ``graph`` and ``work`` the bundles
+:class:`~faultnet._kernels.bundles.Graph` and :class:`~faultnet._kernels.bundles.Work`.
 """
 
 from faultnet._kernels.carlson_langer.physics import accel, force, friction_slope, start_accel

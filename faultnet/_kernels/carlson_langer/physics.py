@@ -171,9 +171,9 @@ def lone_path(i, v0, p0, p1, p2, p3, p4, graph):
 
     The block starts at x = 0 with velocity ``v0`` and obeys
     ``x'' = P(t) - diag x - phi(x')``, ``P(t) = p0 + p1 t + ... + p4 t^4`` (its force at rest
-    with its moving neighbours' motion).  The friction's series follows from ``w = 1 / u``,
-    ``u = 1 + cfr x'``: ``w_k = -w_0 (u_1 w_(k-1) + ... + u_k w_0)``, and
-    ``a_(k+2) = (p_k - diag a_k - oms w_k) / ((k + 1)(k + 2))``.  A path spans at most a step
+    with its moving neighbours' motion; coefficients ``p0`` ... ``p4``).  The friction's series
+    follows from ``w = 1 / u``, ``u = 1 + cfr x'``: ``w_k = -w_0 (u_1 w_(k-1) + ... + u_k w_0)``,
+    and ``a_(k+2) = (p_k - diag a_k - oms w_k) / ((k + 1)(k + 2))``.  A path spans at most a step
     and ``omega^2 = diag <= omega2_max``, so ``omega t`` is at most the step coefficient and
     the truncation error of order ``(omega t)^9 / 9!``: 3e-7 of the path at coefficient 0.8,
     4e-11 at 0.29.

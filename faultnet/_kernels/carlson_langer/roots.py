@@ -6,7 +6,7 @@ stops that the dense output cannot: a block that joined at rest and stops again 
 step, and a velocity that dips below zero inside a step whose ends are both positive.  The
 arguments are the interpolant's end values ``y0``, ``y1`` and slopes times the step ``m0``,
 ``m1`` (Hermite), or its power-basis coefficients ``c0`` ... ``c4`` (quartic), and the
-bracket ``[lo, hi]`` where one is searched.
+bracket ``[lo, hi]`` where one is searched; ``th`` is a fraction of the step.
 """
 
 from faultnet._kernels.jit import inline_kernel, kernel

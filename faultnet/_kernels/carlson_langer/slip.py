@@ -53,7 +53,8 @@ MIN_STEP = 1.0 / 16.0
 
 @kernel
 def record_trace(ev, t, state, work, records):
-    """Append (event, time, positions, velocities) of the traced blocks to ``trace_buf``.
+    """Append (event ``ev``, time ``t``, positions, velocities) of the traced blocks to
+    ``trace_buf``.
 
     ``state``, ``work``, ``records``: the bundles of :mod:`faultnet._kernels.bundles`.
     """

@@ -7,8 +7,10 @@ that depends only on its own stiffness, sigma and alpha.  The event loop
 cache when :func:`solo_free` shows that no neighbour reaches the threshold during it
 (:func:`solo_apply`).
 
-``state``, ``graph``, ``work`` and ``records`` are the bundles of
-:mod:`faultnet._kernels.bundles`.
+Arguments: ``i``, ``hyp`` the block slipping alone, ``s1`` its cached solo slip, ``ev`` the
+event's number, ``w`` the plate position, ``keys`` the failure keys, ``saved`` the counters
+:func:`solo_start` returned, ``cnt`` the counters (``layout.CNT_*``), and the bundles ``state``,
+``graph``, ``work`` and ``records`` of :mod:`faultnet._kernels.bundles`.
 """
 
 from faultnet._kernels.carlson_langer.physics import accel, block_key, load

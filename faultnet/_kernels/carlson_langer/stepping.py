@@ -143,7 +143,10 @@ def restore_positions(nact, W, IW):
 
 @kernel
 def _residual(who, kind, W, graph):
-    """Crossing function and its time derivative at the end of the last step."""
+    """Crossing function of block ``who`` and its time derivative at the end of the last step.
+
+    ``kind``: ``STICK`` (the velocity) or a join (the force minus 1).
+    """
     if kind == STICK:
         return W[who, VN], W[who, AN]
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
@@ -180,7 +183,8 @@ _TAYLOR_MAX = 1e-4
 
 @kernel
 def _polish(h, hmax, who, kind, nact, graph, work):
-    """Newton on the true crossing residual at the end of a step of length h.
+    """Newton on the true crossing residual of block ``who`` (``kind``) at the end of a step of
+    length h, no longer than ``hmax``.
 
     A small correction shifts the end by a Taylor step; a large one (a poor first estimate)
     redoes the step from the committed state.  The crossing ends located to round-off.
@@ -207,7 +211,8 @@ def _polish(h, hmax, who, kind, nact, graph, work):
 
 @inline_kernel
 def to_crossing(th, who, kind, h, nact, vmax, graph, work):
-    """Reach the crossing found at fraction ``th`` of a step of length ``h``; commit there.
+    """Reach the crossing of block ``who`` (``kind``) found at fraction ``th`` of a step of length
+    ``h``; commit there.  ``vmax``: the fastest velocity allowed in a partial step.
 
     A join is landed on the step's interpolant (:func:`.landing.land`).  Otherwise, or when
     that landing is not clean: a partial step to the crossing; if another crossing is found

@@ -42,9 +42,9 @@ _D7 = 69997945.0 / 29380423.0
 def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
     """Power-basis coefficients (c0..c4) of the DP5 dense output y(theta), theta in [0, 1].
 
-    ``y0``, ``y1`` are the values at the ends of the step, ``k*`` the stage
-    derivatives times h (stage 2 does not enter).  Being linear, the formula
-    also interpolates any linear functional of the state (a block's force).
+    ``y0``, ``y1`` are the values at the ends of the step, ``k1``, ``k3`` ... ``k7`` the stage
+    derivatives times h (stage 2 does not enter; ``k7``, the derivative at the end).  Being
+    linear, the formula also interpolates any linear functional of the state (a block's force).
     """
     r2 = y1 - y0
     r3 = k1 - r2
@@ -57,8 +57,9 @@ def dense_coeffs(y0, y1, k1, k3, k4, k5, k6, k7):
 def slot_dense(y0, y1, h, K, q, col, end):
     """:func:`dense_coeffs` of a block whose stage derivatives are in row q of K, columns col + s.
 
-    ``col`` is KV (positions: derivatives are the stage velocities) or KA
-    (velocities); ``end`` is the derivative at the end of the step.
+    ``y0``, ``y1``: the values at the ends of the step of length ``h``; ``col`` is KV
+    (positions: derivatives are the stage velocities) or KA (velocities); ``end`` is the
+    derivative at the end of the step.
     """
     return dense_coeffs(
         y0,

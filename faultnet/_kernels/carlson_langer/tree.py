@@ -15,6 +15,7 @@ __all__ = ["build_keys_and_tree", "tree_update"]
 
 @kernel
 def _winner(a, b, keys):
+    """The block of ``a`` and ``b`` (-1: none) that fails first by ``keys``; ties to ``a``."""
     if a < 0:
         return b
     if b < 0:
