@@ -9,15 +9,15 @@ They advance the model by up to ``n_req`` events and fill preallocated catalog a
 return value is a status code (``STATUS_*``); the counters in ``work.cnt`` are named in
 :mod:`faultnet._kernels.layout` (``CNT_*``).
 
-Arguments of the kernels here: ``ev`` (an event's number), ``hyp`` (its hypocentre), ``w``
-(the plate position), ``ntouch`` (the length of the touched list), ``integrate`` (the event's
-integration, :mod:`.slip`); of the entry kernels: ``n_req`` (events requested), ``ev0`` (the
-first one's number), the bundles (:mod:`faultnet._kernels.bundles`) ``state`` (z, frame,
-failure keys and their tree), ``graph`` (topology and per-block parameters), ``work`` (work
-space, step context, counters) and ``records`` (catalog, slips, traces, profiles, the last event's row), and
-``ctrl`` (options, ``layout.CTRL_*``), ``cls`` (int64[N]: each block's parameter class) and
-``solo`` (float64[n_classes, SOLO_SIZE]: the classes' cached solo slips, ``layout.SOLO_*``,
-NaN until computed).
+Arguments of the kernels here: ``ev`` (an event's number), ``hyp`` (its hypocentre), ``w`` (the
+plate position), ``ntouch`` (the length of the touched list), ``integrate`` (the event's
+integration, :mod:`.slip`); of the entry kernels: ``n_req`` (events requested), ``ev0`` (the first
+one's number), the bundles (:mod:`faultnet._kernels.bundles`) ``state`` (z, frame, failure keys and
+their tree), ``graph`` (topology and per-block parameters), ``work`` (work space, step context,
+counters) and ``records`` (catalog, slips, traces, profiles, the last event's row), and ``ctrl``
+(options, ``layout.CTRL_*``), ``cls`` (int64[N]: each block's parameter class) and ``solo``
+(float64[n_classes, SOLO_SIZE]: the classes' cached solo slips, ``layout.SOLO_*``, NaN until
+computed).
 """
 
 import math
