@@ -5,8 +5,9 @@ Usage: python .ci/same_events.py REFERENCE OTHER [OTHER ...]; exits 1 on the fir
 
 import sys
 
-import faultnet
 import pandas as pd
+
+import faultnet
 
 
 def main(reference, *others):

@@ -6,7 +6,7 @@ with faultnet at each step coefficient (step = coefficient / sqrt(omega2_max)) a
 crossing treatment ("exact", "interpolated"), and prints the 90th percentile of
 ``|S / S_true - 1|``; ``S_true`` is the exact treatment at 1/8 of
 the default step (``yardstick.py``'s reference).  The last table is the worst workload
-per coefficient: ``faultnet.accuracy.CALIBRATION`` holds it::
+per coefficient: ``faultnet.solver.accuracy.CALIBRATION`` holds it::
 
     PYTHONPATH=. python benchmarks/calibrate.py             # W1-W6, 60 events, ~5 minutes
     PYTHONPATH=. python benchmarks/calibrate.py W1 --events 30
@@ -42,8 +42,8 @@ def errors(
     the workload's alpha (its graph at another alpha).
     """
     import faultnet
-    from faultnet.accuracy import StepChoice
-    from faultnet.options import omega2_max
+    from faultnet.solver.accuracy import StepChoice
+    from faultnet.solver.step_size import omega2_max
 
     alpha = WORKLOADS[wid][1] if alpha is None else alpha
     model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=alpha)

@@ -17,8 +17,8 @@ import os
 import tempfile
 import time
 
-from faultnet.io import read_catalog
-from faultnet.sweep import sweep
+from faultnet.io.parquet import read_catalog
+from faultnet.runs.sweep.driver import sweep
 
 
 def run(workers, events, out):

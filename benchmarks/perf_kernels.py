@@ -76,7 +76,7 @@ def write_perf_map():
 
     rows = {}
     for mod_name in MODULES:
-        mod = importlib.import_module(f"faultnet._kernels.carlson_langer.{mod_name}")
+        mod = importlib.import_module(f"faultnet.solver._kernels.carlson_langer.{mod_name}")
         for value in vars(mod).values():
             if not isinstance(value, numba.core.registry.CPUDispatcher):
                 continue

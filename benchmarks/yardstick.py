@@ -12,8 +12,8 @@ Two accuracy levels, as in the issue that defines the comparison:
 =========== ======= ================ =========================================
 level        rtol    yardstick dt     faultnet
 =========== ======= ================ =========================================
-precise      1e-6    0.0035           ``faultnet.accuracy.step_for_rtol(model, 1e-6)``
-statistics   2e-5    0.01             ``faultnet.accuracy.step_for_rtol(model, 2e-5)``
+precise      1e-6    0.0035           ``faultnet.solver.accuracy.step_for_rtol(model, 1e-6)``
+statistics   2e-5    0.01             ``faultnet.solver.accuracy.step_for_rtol(model, 2e-5)``
 =========== ======= ================ =========================================
 
 Accuracy: the 90th percentile of ``|S / S_true - 1|`` over ``--accuracy-events`` consecutive
@@ -58,7 +58,7 @@ def _clsim(path):
 
 def _options(model, rtol):
     """simulate() keyword arguments and kernel options for ``rtol``."""
-    from faultnet.accuracy import step_for_rtol
+    from faultnet.solver.accuracy import step_for_rtol
 
     return step_for_rtol(model, rtol)
 

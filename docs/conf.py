@@ -20,7 +20,7 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 os.environ.setdefault("FAULTNET_FIGURES", str(DOCS / "_build" / "example_figures"))
 
 import faultnet  # noqa: E402
-import faultnet.cli  # noqa: E402
+import faultnet.cli.commands  # noqa: E402
 
 project = "faultnet"
 author = "faultnet developers"
@@ -77,7 +77,7 @@ def _public_names():
 
 
 def _shadowed_modules():
-    """Submodules whose name a top-level function of the same name shadows (``faultnet.sweep``).
+    """Submodules whose name a top-level function of the same name shadows (``sweep``).
 
     Their module pages are written with ``:no-index:`` so that the function keeps the name.
     """
@@ -126,7 +126,7 @@ def _write_toplevel(path):
 
 
 def _write_cli(path):
-    parser = faultnet.cli.build_parser()
+    parser = faultnet.cli.commands.build_parser()
     sub = next(a for a in parser._actions if a.__class__.__name__ == "_SubParsersAction")
     lines = ["``faultnet``", "-" * 12, "", ".. code-block:: text", ""]
     lines += ["   " + line for line in parser.format_help().splitlines()]
@@ -139,6 +139,8 @@ def _write_cli(path):
 
 _write_toplevel(DOCS / "_generated" / "toplevel.rst")
 _write_cli(DOCS / "_generated" / "cli.rst")
+
+
 autosummary_context = {"shadowed_modules": _shadowed_modules()}
 
 # ----------------------------------------------------------------------- gallery

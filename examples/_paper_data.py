@@ -397,7 +397,7 @@ def add_delta_rows(table, summary, s_large, where=""):
 
 def build_graph(spec: dict):
     """A graph from a JSON-able description (ring, square, triangular, percolation)."""
-    import faultnet.graphs as G
+    import faultnet.graphs.builders as G
 
     kind = spec["kind"]
     if kind == "ring":

@@ -4,7 +4,7 @@ Stored runs of the statistical-seismology gallery pages
 
 Not an example (see ``_paper_data.py``).  :func:`run_seismicity` simulates a
 long catalog at k = 16, sigma = 0.01 and reduces it with
-:mod:`faultnet.seismicity` to the small arrays the pages draw: waiting-time
+:mod:`faultnet.seismicity.timing` to the small arrays the pages draw: waiting-time
 histograms, recurrence intervals (system-wide and at fixed blocks, from the
 recorded slips), stacked rates around mainshocks, Omori-Utsu fits, distance
 profiles from the coming hypocentre, b before/after mainshocks and in
@@ -111,7 +111,7 @@ def run_seismicity(
     b_window=2000,
     chunk=100_000,
 ):
-    """Simulate and reduce one catalog with faultnet.seismicity (module docstring)."""
+    """Simulate and reduce one catalog with faultnet.seismicity.timing (module docstring)."""
     import faultnet
     from faultnet import seismicity as fs
 

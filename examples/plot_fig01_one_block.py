@@ -34,7 +34,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import faultnet
-from faultnet.dynamics import linear_slip, one_block_slip_curve
+from faultnet import dynamics
 
 FAST = paper.fast_mode()
 n_alpha = 24 if FAST else 120
@@ -63,8 +63,8 @@ x_steps = np.append(x_steps, x_steps[-1])
 # (b), (c) slip versus alpha, with Eq. (6)
 # ----------------------------------------
 alphas = np.linspace(0.02, 2.0, n_alpha)
-curve_b = one_block_slip_curve(alphas, sigma=0.01)
-curve_c = one_block_slip_curve(alphas, sigma=1e-4)
+curve_b = dynamics.one_block_slip_curve(alphas, sigma=0.01)
+curve_c = dynamics.one_block_slip_curve(alphas, sigma=1e-4)
 fine = np.linspace(0.0, 0.999, 400)
 
 # %%
@@ -85,7 +85,7 @@ inset.set_title("x - x(t_i) inside one slip", fontsize=7)
 inset.tick_params(labelsize=7)
 for ax, curve, sigma, tag in ((axes[1], curve_b, 0.01, "(b)"), (axes[2], curve_c, 1e-4, "(c)")):
     ax.plot(curve["alpha"], curve["s"], "o-", markersize=3, label="faultnet")
-    ax.plot(fine, linear_slip(sigma, fine), "k--", label="Eq. (6)")
+    ax.plot(fine, dynamics.linear_slip(sigma, fine), "k--", label="Eq. (6)")
     ax.set_ylim(0.0, 1.15 * curve["s"].max())
     ax.set_xlabel("alpha")
     ax.set_ylabel("slip s")
@@ -101,7 +101,7 @@ paper.save_figure(fig, "fig01")
 # Paper versus faultnet
 # ---------------------
 def slip_at(alpha, sigma):
-    return float(one_block_slip_curve([alpha], sigma=sigma)["s"].iloc[0])
+    return float(dynamics.one_block_slip_curve([alpha], sigma=sigma)["s"].iloc[0])
 
 
 table = paper.Table("Fig. 1", FAST)
@@ -111,7 +111,7 @@ for a in (0.1, 0.3, 0.5):
     table.add(
         f"(b) s(alpha={a}) / Eq.(6) - 1",
         "~ 0 (good at small alpha)",
-        f"{s / linear_slip(0.01, a) - 1:+.2%}",
+        f"{s / dynamics.linear_slip(0.01, a) - 1:+.2%}",
     )
 table.add(
     "(b) s(0.9) -> s(1.1), sigma=0.01",

@@ -21,7 +21,7 @@ The time axis is the plate time at the start of each event.
 
 The paper's chaotic phase lasts until t ~ 42; faultnet's sequence (which
 agrees with a DOP853 reference integrator at rtol 1e-12 event by event,
-``tests/test_two_block.py``) reaches the two-period state earlier.  Each
+``tests/solver/test_two_block.py``) reaches the two-period state earlier.  Each
 simultaneous slip magnifies a difference in x2 - x1 about thirty-fold, so the
 length of this chaotic transient depends on rounding and is not reproducible
 between integrators; the map in (c) and the slip sizes are.
@@ -37,8 +37,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import faultnet
-from faultnet import plots
-from faultnet.dynamics import linear_slip, return_map
+from faultnet import dynamics, plotting
 
 FAST = paper.fast_mode()
 N_EVENTS = 400
@@ -74,13 +73,13 @@ shown = ev["t"].to_numpy() <= (t_two_period + 3.0 if n_tail < len(big) else np.i
 d_grid = np.unique(
     np.concatenate([np.linspace(-0.01, 0.01, n_map[0]), np.linspace(-0.002, 0.002, n_map[1])])
 )
-rmap = return_map(two, d_grid)
+rmap = dynamics.return_map(two, d_grid)
 
 # %%
 # Figure
 # ------
 fig, axes = plt.subplots(1, 3, figsize=(15, 4.3))
-plots.plot_time_series(ev["t"][shown], ev["S"][shown], ax=axes[0], kind="S", color="C0")
+plotting.plot_time_series(ev["t"][shown], ev["S"][shown], ax=axes[0], kind="S", color="C0")
 axes[0].set_yscale("symlog", linthresh=1e-3)
 axes[0].set_ylim(0, 5)
 axes[0].set_title("(a) total slip S of each event")
@@ -93,7 +92,7 @@ axes[1].axhline(-0.0019, color="0.6", linestyle=":")
 axes[1].set_xlabel("t")
 axes[1].set_ylabel("x2 - x1 after the event")
 axes[1].set_title("(b) x2 - x1 (dotted: +-0.0019)")
-plots.plot_return_map(rmap, ax=axes[2], s=3)
+plotting.plot_return_map(rmap, ax=axes[2], s=3)
 span = np.array([0.0019, 0.01])
 line = dict(color="C3", linewidth=1.0, linestyle="--", zorder=4)
 axes[2].plot(span, span - 0.0038, label="d' = d -+ 0.0038", **line)
@@ -123,7 +122,9 @@ shift = np.abs(outer["d"] - outer["d_next"])
 together = rmap[rmap["n_blocks"] == 2]
 table = paper.Table("Fig. 2", FAST)
 table.add("(a) small (one-block) slip S", "~ 3.8e-3", f"{small_S.median():.4e}")
-table.add("(a) linear estimate sigma/(k+1)(1+e^...)", "~ 0.0039", linear_slip(0.01, 2.0, 17.0))
+table.add(
+    "(a) linear estimate sigma/(k+1)(1+e^...)", "~ 0.0039", dynamics.linear_slip(0.01, 2.0, 17.0)
+)
 table.add(
     "(a) large (simultaneous) slips S",
     "~ 2.4",

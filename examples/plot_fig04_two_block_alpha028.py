@@ -33,8 +33,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import faultnet
-from faultnet import plots
-from faultnet.dynamics import return_map
+from faultnet import dynamics, plotting
 
 FAST = paper.fast_mode()
 ALPHA = 0.28
@@ -62,7 +61,7 @@ chaos = faultnet.simulate(two, N_EVENTS, x0=[0.001, 0.002], progress=False, reco
 alt = faultnet.simulate(two, N_EVENTS, x0=[0.0, 0.01], progress=False, record_profiles=True)
 d_chaos = chaos.profiles[:, 1] - chaos.profiles[:, 0]
 d_alt = alt.profiles[:, 1] - alt.profiles[:, 0]
-rmap = return_map(two, np.linspace(-0.003, 0.003, 241 if FAST else 1201))
+rmap = dynamics.return_map(two, np.linspace(-0.003, 0.003, 241 if FAST else 1201))
 
 # %%
 # Where is the simultaneous-slip state stable?
@@ -81,13 +80,13 @@ together = np.array(together)
 fig, axes = plt.subplots(1, 4, figsize=(18, 4.2))
 n_show = min(150, N_EVENTS)
 ev = chaos.events.iloc[:n_show]
-plots.plot_time_series(ev["t"], ev["S"], ax=axes[0], kind="S")
+plotting.plot_time_series(ev["t"], ev["S"], ax=axes[0], kind="S")
 axes[0].set_title("(a) S(t), chaotic simultaneous slips")
 axes[1].plot(ev["t"], d_chaos[:n_show], "o-", markersize=3)
 axes[1].set_xlabel("t")
 axes[1].set_ylabel("x2 - x1 after the event")
 axes[1].set_title("(b) x2 - x1")
-plots.plot_return_map(rmap, ax=axes[2], s=2, color="0.3")
+plotting.plot_return_map(rmap, ax=axes[2], s=2, color="0.3")
 axes[2].scatter(
     d_chaos[TRANSIENT:-1],
     d_chaos[TRANSIENT + 1 :],

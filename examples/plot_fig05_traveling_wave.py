@@ -40,14 +40,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 import faultnet
-from faultnet import plots
-from faultnet.dynamics import continuation, linear_slip
+from faultnet import dynamics, plotting
 
 FAST = paper.fast_mode()
 N = 50 if FAST else 200
 D_ALPHA, PER_STEP = (0.002, 17) if FAST else (0.0005, 67)
 ALPHA = 1.5
-S0 = float(linear_slip(0.01, 0.0, 2 * 16 + 1))  # alpha = 0 single-block slip
+S0 = float(dynamics.linear_slip(0.01, 0.0, 2 * 16 + 1))  # alpha = 0 single-block slip
 assert np.gcd(PER_STEP, N) == 1
 alphas = np.round(np.arange(D_ALPHA, ALPHA + 1e-9, D_ALPHA), 6)
 paper.header(
@@ -66,7 +65,7 @@ paper.header(
 # ----------------------------------------
 ring = faultnet.CarlsonLanger(faultnet.graphs.ring(N), k=16, sigma=0.01, alpha=0.0)
 settled = faultnet.simulate(ring, 10 * N, x0=S0 * np.arange(N) / N, progress=False)
-ramped, steps = continuation(ring, alphas, PER_STEP, x0=settled)
+ramped, steps = dynamics.continuation(ring, alphas, PER_STEP, x0=settled)
 wave = faultnet.simulate(
     ring.with_params(alpha=ALPHA), 20 * N, x0=ramped, progress=False, record_profiles=True
 )
@@ -85,7 +84,7 @@ print(
 random_ic = None
 if not FAST:
     settled_r = faultnet.simulate(ring, 300 * N, rng=1, progress=False)
-    ramped_r, steps_r = continuation(ring, alphas, PER_STEP, x0=settled_r)
+    ramped_r, steps_r = dynamics.continuation(ring, alphas, PER_STEP, x0=settled_r)
     check_r = faultnet.simulate(ring.with_params(alpha=ALPHA), 20 * N, x0=ramped_r, progress=False)
     broke = steps_r.loc[steps_r["n_blocks_max"] >= N // 2, "alpha"]
     random_ic = (
@@ -102,7 +101,7 @@ fig, axes = plt.subplots(1, 4, figsize=(18, 4.2))
 x_rel = wave.profiles - wave.state.u  # displacement relative to the plate
 t0 = float(ev["t"].iloc[0])
 t_rel = ev["t"].to_numpy()[shown] - t0
-plots.plot_profiles(x_rel[shown], t=t_rel, ax=axes[0], subtract_mean=True)
+plotting.plot_profiles(x_rel[shown], t=t_rel, ax=axes[0], subtract_mean=True)
 axes[0].set_ylabel(f"t - {t0:.4f}")
 axes[0].set_title("(a) x_i - <x> after each event")
 axes[1].plot(t_rel, ev["hypocenter"].to_numpy()[shown], ".", markersize=3)
@@ -141,7 +140,7 @@ table.add("single-block slip at alpha = 1.5", "1.007e-3", f"{ev['S'].median():.4
 table.add(
     "linear estimate sigma/(2k+1)(1+e^...)",
     "~ 1.03e-3",
-    linear_slip(0.01, 1.5, 33.0),
+    dynamics.linear_slip(0.01, 1.5, 33.0),
     "the formula evaluates to 1.012e-3",
 )
 table.add(

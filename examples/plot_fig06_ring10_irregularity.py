@@ -28,7 +28,7 @@ import _paper_data as paper
 import matplotlib.pyplot as plt
 
 import faultnet
-from faultnet import plots
+from faultnet import plotting
 
 FAST = paper.fast_mode()
 N, ALPHA, SEED = 10, 1.5, 1
@@ -60,12 +60,12 @@ print(
 fig, axes = plt.subplots(1, 3, figsize=(15, 4.3))
 t_win = win["t"].to_numpy()
 plate = t_win[:, None]  # x relative to the plate: the dent is what lags behind
-plots.plot_profiles(profiles - plate, t=t_win, ax=axes[0], subtract_mean=True)
+plotting.plot_profiles(profiles - plate, t=t_win, ax=axes[0], subtract_mean=True)
 axes[0].set_title("(a) x_i - <x> after each event")
-plots.plot_time_series(t_win, win["S"], ax=axes[1], kind="S")
+plotting.plot_time_series(t_win, win["S"], ax=axes[1], kind="S")
 axes[1].set_yscale("symlog", linthresh=1e-3)
 axes[1].set_title("(b) S(t)")
-plots.plot_time_series(t_win, win["Delta"], ax=axes[2], kind="delta")
+plotting.plot_time_series(t_win, win["Delta"], ax=axes[2], kind="delta")
 large_t = win.loc[win["S"] > S_LARGE, "t"]
 for ax in axes[1:]:
     for t in large_t:

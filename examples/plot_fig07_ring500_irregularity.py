@@ -25,7 +25,7 @@ import _paper_data as paper
 import matplotlib.pyplot as plt
 
 import faultnet
-from faultnet import plots
+from faultnet import plotting
 
 FAST = paper.fast_mode()
 N, ALPHA, SEED = 500, 1.5, 1
@@ -55,11 +55,11 @@ print(
 # Figure
 # ------
 fig, axes = plt.subplots(1, 3, figsize=(15, 4.3))
-plots.plot_time_series(win["t"], win["S"], ax=axes[0], kind="S")
+plotting.plot_time_series(win["t"], win["S"], ax=axes[0], kind="S")
 axes[0].set_title("(a) S(t)")
-plots.plot_time_series(win["t"], win["Delta"], ax=axes[1], kind="delta")
+plotting.plot_time_series(win["t"], win["Delta"], ax=axes[1], kind="delta")
 axes[1].set_title("(b) Delta(t) (red: S > 30)")
-plots.plot_time_series(win["t"], win["S"], ax=axes[2], kind="S", linewidth=0.5)
+plotting.plot_time_series(win["t"], win["S"], ax=axes[2], kind="S", linewidth=0.5)
 axes[2].set_yscale("symlog", linthresh=1e-3)
 axes[2].set_title("(extra) S(t) on a log axis")
 for t in win.loc[win["S"] > S_LARGE, "t"]:

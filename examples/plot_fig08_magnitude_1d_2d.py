@@ -35,7 +35,7 @@ events: its numbers are not the paper's.
 import _paper_data as paper
 import matplotlib.pyplot as plt
 
-from faultnet import plots
+from faultnet import plotting
 
 FAST = paper.fast_mode()
 RING = [f"fig08_ring_alpha{a:g}" for a in (2.0, 1.0, 0.25)]
@@ -78,14 +78,14 @@ for ax, names, window, title in (
     for name in names:
         res = runs[name]
         fit = paper.fits(res, window)[0] if res["alpha"] == 1.0 else None
-        plots.plot_magnitude_distribution(
+        plotting.plot_magnitude_distribution(
             paper.magnitude_table(res), fit=fit, ax=ax, label=f"alpha = {res['alpha']:g}"
         )
     ax.axvspan(*window, color="0.9", zorder=0)
     ax.set_title(f"{title}, N = {runs[names[0]]['n_blocks']}")
 for name, label in ((SQUARE[1], "periodic"), (OPEN, "open")):
     res = runs[name]
-    plots.plot_magnitude_distribution(
+    plotting.plot_magnitude_distribution(
         paper.magnitude_table(res),
         fit=paper.fits(res, SQUARE_WINDOW)[0],
         ax=axes[2],

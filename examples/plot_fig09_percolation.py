@@ -40,8 +40,7 @@ import networkx as nx
 import numpy as np
 
 import faultnet
-from faultnet import plots
-from faultnet.dynamics import one_block_slip_curve
+from faultnet import dynamics, plotting
 
 FAST = paper.fast_mode()
 WINDOW = (-6.0, 2.0)
@@ -99,7 +98,9 @@ def draw(ax, names, labels, fit_name, title):
     for name, label in zip(names, labels, strict=True):
         res = runs[name]
         fit = paper.fits(res, WINDOW)[0] if name == fit_name else None
-        plots.plot_magnitude_distribution(paper.magnitude_table(res), fit=fit, ax=ax, label=label)
+        plotting.plot_magnitude_distribution(
+            paper.magnitude_table(res), fit=fit, ax=ax, label=label
+        )
     reference_line(ax, runs[fit_name])
     ax.legend(fontsize=7)
     ax.set_title(title)
@@ -109,7 +110,7 @@ def draw(ax, names, labels, fit_name, title):
 # Figure
 # ------
 fig, axes = plt.subplots(1, 4, figsize=(19, 4.6))
-plots.plot_graph(clusters, ax=axes[0], color_by="component", linewidth=0.8)
+plotting.plot_graph(clusters, ax=axes[0], color_by="component", linewidth=0.8)
 axes[0].set_title("(a) clusters at p = 0.56, 50 x 50")
 draw(
     axes[1],
@@ -170,7 +171,7 @@ table.add("(c) all clusters, alpha=1: b (lsq)", "0.67", paper.fit_text(lsq))
 table.add("(c) all clusters, alpha=1: b (Aki MLE)", "0.67", paper.fit_text(mle))
 for name in C_NAMES:
     res = runs[name]
-    m1 = float(np.log(one_block_slip_curve([res["alpha"]], sigma=0.01)["s"].iloc[0]))
+    m1 = float(np.log(dynamics.one_block_slip_curve([res["alpha"]], sigma=0.01)["s"].iloc[0]))
     edges = np.asarray(res["M_edges"])
     centres = 0.5 * (edges[:-1] + edges[1:])
     spike = np.abs(centres - m1) < 0.05

@@ -34,7 +34,7 @@ import networkx as nx
 import numpy as np
 
 import faultnet
-from faultnet import plots
+from faultnet import plotting
 
 FAST = paper.fast_mode()
 WINDOW = (-6.0, 2.0)
@@ -79,12 +79,12 @@ print(
 # Figure
 # ------
 fig, axes = plt.subplots(1, 2, figsize=(11, 4.6))
-plots.plot_graph(clusters, ax=axes[0], color_by="component", linewidth=0.6)
+plotting.plot_graph(clusters, ax=axes[0], color_by="component", linewidth=0.6)
 axes[0].set_title("(a) clusters at p = 0.5, triangular 50 x 50")
 for name in NAMES:
     res = runs[name]
     fit = paper.fits(res, WINDOW)[0] if res["alpha"] == 1.0 else None
-    plots.plot_magnitude_distribution(
+    plotting.plot_magnitude_distribution(
         paper.magnitude_table(res), fit=fit, ax=axes[1], label=f"alpha = {res['alpha']:g}"
     )
 table1 = paper.magnitude_table(runs[NAMES[1]])

@@ -2,7 +2,7 @@
 Statistical seismology on the critical percolation cluster
 ==========================================================
 
-The tools of :mod:`faultnet.seismicity` on the largest cluster of a 150 x 150
+The tools of :mod:`faultnet.seismicity.timing` on the largest cluster of a 150 x 150
 square lattice diluted at the site-percolation threshold p_c = 0.5927 (the
 cluster of the paper's Fig. 9b, occupation seed 2013, open boundaries), at
 k = 16, sigma = 0.01, alpha = 1.  The paper finds b ~ 0.67 there, close to
@@ -33,7 +33,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from _paper_data import Table, fast_mode, header, save_figure  # noqa: E402
 
-from faultnet import seismicity_plots as sp  # noqa: E402
+from faultnet import plotting  # noqa: E402
 
 FAST = fast_mode()
 header(
@@ -60,7 +60,7 @@ axes[0, 0].set(xlabel="M = ln S", ylabel="P(M)", title="(a) magnitudes; dotted: 
 th = r["theta_thresholds"]
 for i in range(len(th)):
     lab = "all events" if np.isinf(th[i]) else f"M >= {th[i]:g}"
-    sp.plot_interevent_times(
+    plotting.plot_interevent_times(
         (r["theta_edges"], r["theta_counts"][i]),
         ax=axes[0, 1],
         poisson=(i == 0),
@@ -85,14 +85,14 @@ axes[0, 2].set(
     title="(c) mainshock recurrence: system-wide / at a block",
 )
 for key, lab in (("stack_all", "whole cluster"), ("stack_near", f"near (r <= {r['radius']:g})")):
-    sp.plot_stack(S.stack_table(r, key), ax=axes[1, 0], label=lab)
+    plotting.plot_stack(S.stack_table(r, key), ax=axes[1, 0], label=lab)
 axes[1, 0].set_title("(d) stacked rate around mainshocks")
 for metric in ("euclidean", "graph"):
     for m_min, ls in ((None, "-"), (-2.0, "--")):
         lab = f"{'straight line' if metric == 'euclidean' else 'graph hops'}, " + (
             "all events" if m_min is None else f"M >= {m_min:g}"
         )
-        sp.plot_distance_profile(
+        plotting.plot_distance_profile(
             S.profile_table(r, metric, 0.03, m_min), ax=axes[1, 1], ls=ls, label=lab
         )
 axes[1, 1].set_yscale("log")

@@ -2,7 +2,7 @@
 Statistical seismology of the ring: alpha = 1 against alpha = 2
 ================================================================
 
-The tools of :mod:`faultnet.seismicity` on two long catalogs of the ring of
+The tools of :mod:`faultnet.seismicity.timing` on two long catalogs of the ring of
 N = 2000 blocks at k = 16, sigma = 0.01: alpha = 1, where P(M) is a power law
 (b = 0.45 in the paper), and alpha = 2, where P(M) has a hump of large,
 characteristic events.  Questions, as in Mori & Kawamura (PRL 2005, JGR 2006)
@@ -40,7 +40,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from _paper_data import Table, fast_mode, header, save_figure  # noqa: E402
 
-from faultnet import seismicity_plots as sp  # noqa: E402
+from faultnet import plotting  # noqa: E402
 
 FAST = fast_mode()
 header(
@@ -79,7 +79,7 @@ for alpha, r in runs.items():
     th = r["theta_thresholds"]
     for i, ls in ((0, "-"), (len(th) - 1, "--")):
         lab = "all events" if np.isinf(th[i]) else f"M >= {th[i]:g}"
-        sp.plot_interevent_times(
+        plotting.plot_interevent_times(
             (r["theta_edges"], r["theta_counts"][i]),
             ax=axes[0, 1],
             poisson=(alpha == 1 and i == 0),
@@ -100,7 +100,7 @@ for alpha, r in runs.items():
                 ls=ls,
                 label=f"alpha = {alpha}, {key[4:]}: CV = {x.std(ddof=1) / x.mean():.2f}",
             )
-    sp.plot_stack(
+    plotting.plot_stack(
         S.stack_table(r, "stack_near"),
         ax=axes[1, 0],
         color=c,
@@ -108,7 +108,7 @@ for alpha, r in runs.items():
     )
     for m_min, ls in ((None, "-"), (-2.0, "--")):
         lab = "all events" if m_min is None else f"M >= {m_min:g}"
-        sp.plot_distance_profile(
+        plotting.plot_distance_profile(
             S.profile_table(r, window=0.03, m_min=m_min),
             ax=axes[1, 1],
             color=c,

@@ -1,7 +1,7 @@
 """faultnet: Carlson-Langer block-spring earthquake models on networks.
 
-The pipeline reads as the module list: ``graphs`` -> ``model`` ->
-``options`` -> ``engine`` -> ``catalog`` -> ``stats``, ``seismicity`` and ``plots``.
+The pipeline reads as the subpackage list: ``graphs`` -> ``model`` -> ``solver``
+-> ``io`` -> ``runs``, and the catalogs go to ``stats``, ``seismicity`` and ``plotting``.
 
 >>> import faultnet
 >>> model = faultnet.CarlsonLanger(faultnet.graphs.ring(50), k=16, sigma=0.01, alpha=1.0)
@@ -17,37 +17,42 @@ from faultnet._version import __version__
 # (``faultnet.__main__``) instead of in the middle of this file's imports.
 _LAZY = {
     "AccuracyWarning": "faultnet.exceptions",
-    "BFit": "faultnet.stats",
-    "CarlsonLanger": "faultnet.model",
+    "BFit": "faultnet.stats.magnitudes",
+    "CarlsonLanger": "faultnet.model.carlson_langer",
     "EventTooLongError": "faultnet.exceptions",
     "FaultnetError": "faultnet.exceptions",
     "FitWarning": "faultnet.exceptions",
     "InvalidParameterError": "faultnet.exceptions",
     "NumericalInstabilityError": "faultnet.exceptions",
-    "RunOptions": "faultnet.options",
+    "RunOptions": "faultnet.solver.options",
     "SimulationError": "faultnet.exceptions",
-    "SimulationResult": "faultnet.catalog",
-    "Simulator": "faultnet.engine",
-    "SparseGraph": "faultnet.model",
-    "State": "faultnet.state",
-    "build_model": "faultnet.specs",
-    "default_dt": "faultnet.options",
-    "fit_b_lsq": "faultnet.stats",
-    "fit_b_mle": "faultnet.stats",
-    "graph_hash": "faultnet.specs",
-    "irregularity": "faultnet.stats",
-    "magnitude_distribution": "faultnet.stats",
-    "read_catalog": "faultnet.io",
-    "read_metadata": "faultnet.io",
-    "simulate": "faultnet.engine",
-    "simulate_to_parquet": "faultnet.runner",
-    "slip_event": "faultnet.engine",
-    "summarize": "faultnet.sweep_summary",
-    "sweep": "faultnet.sweep",
-    "write_catalog": "faultnet.io",
+    "SimulationResult": "faultnet.solver.result",
+    "Simulator": "faultnet.solver.simulator",
+    "SparseGraph": "faultnet.model.carlson_langer",
+    "State": "faultnet.model.state",
+    "build_model": "faultnet.runs.specs",
+    "default_dt": "faultnet.solver.step_size",
+    "fit_b_lsq": "faultnet.stats.magnitudes",
+    "fit_b_mle": "faultnet.stats.magnitudes",
+    "irregularity": "faultnet.stats.irregularity",
+    "magnitude_distribution": "faultnet.stats.magnitudes",
+    "read_catalog": "faultnet.io.parquet",
+    "read_metadata": "faultnet.io.catalog_file",
+    "simulate": "faultnet.solver.engine",
+    "simulate_to_parquet": "faultnet.runs.long_run",
+    "slip_event": "faultnet.solver.engine",
+    "summarize": "faultnet.runs.sweep.summary",
+    "sweep": "faultnet.runs.sweep.driver",
+    "write_catalog": "faultnet.io.parquet",
 }
-#: submodules reachable as attributes of the package
-_SUBMODULES = ("dynamics", "graphs", "seismicity", "stats")
+#: the public subpackages and modules, reachable as attributes of the package
+_SUBMODULES = {
+    "dynamics": "faultnet.solver.dynamics",
+    "graphs": "faultnet.graphs",
+    "plotting": "faultnet.plotting",
+    "seismicity": "faultnet.seismicity",
+    "stats": "faultnet.stats",
+}
 
 
 def __getattr__(name):
@@ -56,7 +61,7 @@ def __getattr__(name):
     if name in _LAZY:
         value = getattr(importlib.import_module(_LAZY[name]), name)
     elif name in _SUBMODULES:
-        value = importlib.import_module(f"faultnet.{name}")
+        value = importlib.import_module(_SUBMODULES[name])
     else:
         raise AttributeError(f"module 'faultnet' has no attribute {name!r}")
     globals()[name] = value
@@ -83,7 +88,6 @@ __all__ = [
     "Simulator",
     "RunOptions",
     "build_model",
-    "graph_hash",
     "read_catalog",
     "read_metadata",
     "simulate_to_parquet",
@@ -98,6 +102,7 @@ __all__ = [
     "graphs",
     "irregularity",
     "magnitude_distribution",
+    "plotting",
     "simulate",
     "slip_event",
     "seismicity",

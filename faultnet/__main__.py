@@ -14,7 +14,7 @@ def main(argv=None) -> int:
     exit status 130, like a Ctrl-C during a command.
     """
     try:
-        from faultnet.cli import main as cli_main
+        from faultnet.cli.commands import main as cli_main
     except KeyboardInterrupt:
         print("\nfaultnet: interrupted while starting; nothing was written", file=sys.stderr)
         return EXIT_INTERRUPTED

@@ -1,0 +1,218 @@
+"""Graph-spec strings -> :class:`GraphSpec`: the parser behind :mod:`faultnet.runs.specs`.
+
+The forms, and how a spec becomes a graph and a model, are described in
+:mod:`faultnet.runs.specs`, which re-exports the names here.  Parsing builds
+nothing and draws no random numbers.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+from dataclasses import dataclass, field
+
+from faultnet import graphs
+from faultnet.exceptions import GraphSpecError
+
+__all__ = ["GRAPH_SPEC_FORMS", "GraphSpec", "parse_graph_spec"]
+
+GRAPH_SPEC_FORMS = (
+    "chain:N                  e.g. chain:100",
+    "ring:N                   e.g. ring:2000",
+    "square:RxC[:periodic]    e.g. square:150x150:periodic (square:L means LxL)",
+    "triangular:RxC[:periodic]  e.g. triangular:150x150",
+    "percolation:LATTICE:RxC[:periodic]:p=P[:largest|:all][:prune][:seed=S]"
+    "  e.g. percolation:square:150x150:p=0.5927:largest (p=pc: the threshold)",
+    "file:PATH or PATH.graphml / PATH.json  a GraphML or node-link JSON graph file",
+)
+
+_GRAPH_FILE_SUFFIXES = (".graphml", ".json")
+
+
+def _spec_error(spec, why):
+    forms = "\n  ".join(GRAPH_SPEC_FORMS)
+    return GraphSpecError(f"invalid graph spec {spec!r}: {why}\nvalid forms:\n  {forms}")
+
+
+@dataclass(frozen=True)
+class GraphSpec:
+    """A parsed graph spec.
+
+    Attributes
+    ----------
+    kind : str
+        ``chain``, ``ring``, ``square``, ``triangular``, ``percolation`` or ``file``.
+    size : tuple of int
+        ``(n,)`` for chains and rings, ``(rows, cols)`` for lattices, ``()`` for files.
+    periodic : bool
+    lattice : str or None
+        ``square`` / ``triangular`` for percolation.
+    p : float or None
+        Occupation probability for percolation.
+    keep : str
+        ``largest`` or ``all`` (percolation).
+    prune : bool
+        Drop isolated occupied sites (percolation).
+    seed : int or None
+        Fixed disorder seed (percolation); None derives it from the run seed.
+    path : str or None
+        Graph file (``kind == "file"``).
+    """
+
+    kind: str
+    size: tuple = ()
+    periodic: bool = False
+    lattice: str | None = None
+    p: float | None = None
+    keep: str = "largest"
+    prune: bool = False
+    seed: int | None = None
+    path: str | None = None
+    text: str = field(default="", compare=False)
+
+    @property
+    def random(self) -> bool:
+        """True when building the graph draws random numbers."""
+        return self.kind == "percolation" and self.seed is None
+
+    @property
+    def canonical(self) -> str:
+        """The spec in normal form (what is recorded in catalog metadata)."""
+        if self.kind in ("chain", "ring"):
+            return f"{self.kind}:{self.size[0]}"
+        if self.kind == "file":
+            return f"file:{self.path}"
+        dims = f"{self.size[0]}x{self.size[1]}" + (":periodic" if self.periodic else "")
+        if self.kind in ("square", "triangular"):
+            return f"{self.kind}:{dims}"
+        out = f"percolation:{self.lattice}:{dims}:p={self.p!r}:{self.keep}"
+        if self.prune:
+            out += ":prune"
+        if self.seed is not None:
+            out += f":seed={self.seed}"
+        return out
+
+
+def _int_token(spec, token, what):
+    if not re.fullmatch(r"\d+", token):
+        raise _spec_error(spec, f"{what} must be a positive integer, got {token!r}")
+    return int(token)
+
+
+def _dims(spec, token):
+    m = re.fullmatch(r"(\d+)(?:x(\d+))?", token)
+    if not m:
+        raise _spec_error(
+            spec, f"lattice size must look like ROWSxCOLS (e.g. 150x150), got {token!r}"
+        )
+    rows = int(m.group(1))
+    cols = int(m.group(2)) if m.group(2) else rows
+    return rows, cols
+
+
+def _looks_like_file(spec):
+    return spec.startswith("file:") or spec.lower().endswith(_GRAPH_FILE_SUFFIXES)
+
+
+def parse_graph_spec(spec) -> GraphSpec:
+    """Parse a graph spec string (see the module docstring for the forms).
+
+    Raises
+    ------
+    GraphSpecError
+        Naming the problem and listing the valid forms.
+
+    >>> parse_graph_spec("percolation:square:64x64:p=pc").p
+    0.592746
+    >>> parse_graph_spec("hexagonal:10")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    faultnet.exceptions.GraphSpecError: invalid graph spec 'hexagonal:10': unknown graph kind...
+    """
+    if isinstance(spec, GraphSpec):
+        return spec
+    if not isinstance(spec, str) or not spec.strip():
+        raise _spec_error(spec, "a graph spec must be a non-empty string")
+    spec = spec.strip()
+    if _looks_like_file(spec):
+        path = spec[5:] if spec.startswith("file:") else spec
+        if not path:
+            raise _spec_error(spec, "file: needs a path")
+        return GraphSpec(kind="file", path=path, text=spec)
+    parts = spec.split(":")
+    kind = parts[0].lower()
+    args = parts[1:]
+    if kind in ("chain", "ring"):
+        if len(args) != 1:
+            raise _spec_error(spec, f"{kind} takes exactly one size, e.g. {kind}:200")
+        return GraphSpec(kind=kind, size=(_int_token(spec, args[0], "the size"),), text=spec)
+    if kind in ("square", "triangular"):
+        if not args or len(args) > 2:
+            raise _spec_error(spec, f"{kind} takes ROWSxCOLS and optionally :periodic")
+        periodic = False
+        if len(args) == 2:
+            if args[1].lower() not in ("periodic", "open"):
+                raise _spec_error(spec, f"unknown option {args[1]!r}; allowed: periodic, open")
+            periodic = args[1].lower() == "periodic"
+        return GraphSpec(kind=kind, size=_dims(spec, args[0]), periodic=periodic, text=spec)
+    if kind == "percolation":
+        return _parse_percolation(spec, args)
+    if os.path.sep in spec or os.path.exists(spec):
+        raise _spec_error(
+            spec, "graph files must end in .graphml or .json (or be given as file:PATH)"
+        )
+    raise _spec_error(spec, f"unknown graph kind {kind!r}")
+
+
+def _parse_percolation(spec, args):
+    if len(args) < 2:
+        raise _spec_error(spec, "percolation needs a lattice, a size and p=P")
+    lattice = args[0].lower()
+    if lattice not in ("square", "triangular"):
+        raise _spec_error(
+            spec, f"percolation lattice must be square or triangular, got {args[0]!r}"
+        )
+    size = _dims(spec, args[1])
+    periodic, keep, prune, p, seed = False, "largest", False, None, None
+    for token in args[2:]:
+        low = token.lower()
+        if low in ("periodic", "open"):
+            periodic = low == "periodic"
+        elif low in ("largest", "all"):
+            keep = low
+        elif low == "prune":
+            prune = True
+        elif low.startswith("p="):
+            value = low[2:]
+            if value == "pc":
+                p = graphs.percolation_threshold(lattice)
+            else:
+                try:
+                    p = float(value)
+                except ValueError:
+                    raise _spec_error(
+                        spec, f"p must be a number or pc, got {token[2:]!r}"
+                    ) from None
+                if not 0.0 <= p <= 1.0:
+                    raise _spec_error(spec, f"p must lie in [0, 1], got {p!r}")
+        elif low.startswith("seed="):
+            seed = _int_token(spec, token[5:], "seed")
+        else:
+            raise _spec_error(
+                spec,
+                f"unknown percolation option {token!r}; allowed: periodic, p=P, largest, all, "
+                "prune, seed=S",
+            )
+    if p is None:
+        raise _spec_error(spec, "percolation needs p=P (a probability, or p=pc)")
+    return GraphSpec(
+        kind="percolation",
+        size=size,
+        periodic=periodic,
+        lattice=lattice,
+        p=p,
+        keep=keep,
+        prune=prune,
+        seed=seed,
+        text=spec,
+    )

@@ -1,0 +1,171 @@
+"""The named bundles in which the kernels' arrays travel.
+
+The Python layer (:class:`faultnet.solver.arrays.KernelArrays`) builds one of each and hands
+them to an entry kernel (:mod:`.carlson_langer.events`); inner kernels take the bundles they
+need and read their fields by name (``g.indptr``).  Each bundle is a ``namedtuple``, which
+Numba types as a tuple: a field is read at no cost, and a kernel called with a bundle
+compiles for the field types only (one signature per bundle).
+
+The hot inner kernels (the stage passes of :func:`~.carlson_langer.dopri.dopri_step`, the force
+and acceleration of :mod:`~.carlson_langer.physics` and the crossing scan of
+:mod:`~.carlson_langer.crossing`) take the arrays themselves, unpacked once by their caller.
+"""
+
+from collections import namedtuple
+
+import numpy as np
+
+__all__ = [
+    "Graph",
+    "Records",
+    "State",
+    "Work",
+    "empty_tree",
+    "graph_bundle",
+    "padded_neighbours",
+    "tree_size",
+    "work_array",
+]
+
+#: Topology and per-block parameters (read-only in the kernels).
+#:
+#: - ``indptr``, ``indices`` (int64[N + 1], int64[nnz]): the graph in CSR form, block i's
+#:   neighbours ``indices[indptr[i]:indptr[i + 1]]``;
+#: - ``kval`` (float64[nnz]): the spring constant of each CSR entry;
+#: - ``diag`` (float64[N]): a block's total stiffness, 1 + sum of its springs;
+#: - ``oms`` (float64[N]): 1 - sigma, the dynamic friction at rest;
+#: - ``cfr`` (float64[N]): 2 alpha / (1 - sigma), the velocity weakening of the friction;
+#: - ``k_uniform`` (float): the spring constant when every spring has it and ``nbr`` holds
+#:   every neighbour, else 0.0 (the DP5 stages and the join scan then sum the neighbours'
+#:   positions over ``nbr`` and multiply once);
+#: - ``nbr`` (uint64[N, width]): each block's neighbours in CSR order, padded with the ghost
+#:   row of ``W`` (index 2 N, always 0) to the largest degree; width 0 on a graph with hubs
+#:   (:func:`padded_neighbours`).  Unsigned, so that Numba indexes ``W`` with them without
+#:   its negative-index wrap-around (2-6% more events/s on W1 and W6).
+Graph = namedtuple("Graph", ["indptr", "indices", "kval", "diag", "oms", "cfr", "k_uniform", "nbr"])
+
+#: The model's state between events (:mod:`.carlson_langer.tree`).
+#:
+#: - ``z`` (float64[N]): block displacements minus the frame offset;
+#: - ``scal`` (float64[SCAL_SIZE]): the frame offset and the plate position relative to it
+#:   (``layout.SCAL_*``);
+#: - ``keys`` (float64[N]): each block's failure key, the plate position at which it fails;
+#: - ``tree`` (int64[2 * leaves]): the tournament tree over the keys (its root, ``tree[1]``,
+#:   the next block to fail).
+State = namedtuple("State", ["z", "scal", "keys", "tree"])
+
+#: The event's work space and the counters of the current call.
+#:
+#: - ``W`` (float64[2 N + 1, N_WORK], :func:`work_array`): float work, block-major: row i for
+#:   block i (columns named in :mod:`.carlson_langer.work`), row N + q the DP5 stage
+#:   derivatives of the block at active position q (:func:`.carlson_langer.tableau.stage_rows`,
+#:   columns ``KV``, ``KA``), and row 2 N the ghost, never written, which padded neighbours
+#:   read (``Graph.nbr``);
+#: - ``IW`` (int64[N_IWORK, N]): int work, rows named in :mod:`.carlson_langer.work`;
+#: - ``loc`` (float64[LOC_SIZE]): the crossings a step listed (:mod:`.carlson_langer.work`);
+#: - ``cnt`` (int64[CNT_SIZE]): counters (``layout.CNT_*``).
+Work = namedtuple("Work", ["W", "IW", "loc", "cnt"])
+
+#: What a call records.  Buffers of length 0 record nothing.
+#:
+#: - ``cat_f`` (float64[n_req, CAT_F_SIZE]), ``cat_i`` (int64[n_req, CAT_I_SIZE]): the event
+#:   catalog, one row per event (``layout.CAT_*``);
+#: - ``slip_event``, ``slip_node`` (int64[rows]), ``slip_val`` (float64[rows]): per-block slips,
+#:   one row per block and event (rows used: ``cnt[CNT_SLIP_ROWS]``);
+#: - ``trace_nodes`` (int64[m]): the traced blocks;
+#: - ``trace_buf`` (float64[rows, TRACE_X + 2 m]): their positions and velocities at every
+#:   step inside events (``layout.TRACE_*``; rows used: ``cnt[CNT_TRACE_ROWS]``);
+#: - ``profiles`` (float64[n_req, N] or [0, 0]): the displacements after each event;
+#: - ``out`` (float64[OUT_SIZE]): the last event's catalog row (``layout.OUT_*``), also when
+#:   it failed.
+Records = namedtuple(
+    "Records",
+    [
+        "cat_f",
+        "cat_i",
+        "slip_event",
+        "slip_node",
+        "slip_val",
+        "trace_nodes",
+        "trace_buf",
+        "profiles",
+        "out",
+    ],
+)
+
+
+def padded_neighbours(indptr, indices):
+    """The neighbour table ``nbr`` of :data:`Graph`, from the CSR arrays (int64).
+
+    Row i lists block i's neighbours in CSR order, then the ghost row of ``W`` (index 2 N, all
+    zeros) up to the largest degree, so that a force sum runs the same number of times for
+    every block.  Its loop exit is then predicted: on the percolation clusters, whose degrees
+    vary from block to block, a mispredicted exit at every force evaluation cost 12-15% of the
+    events/s.  The sums keep the CSR order and add exact zeros: forces are bit-identical.
+    The entries are unsigned (see :data:`Graph`).
+
+    A graph whose largest degree exceeds twice its mean degree plus 8 (a graph with hubs) gets
+    an empty table (width 0) rather than one as wide as its largest hub for every block; its
+    force sums read the CSR arrays.
+
+    >>> nbr = padded_neighbours(np.array([0, 1, 3, 4]), np.array([1, 0, 2, 1]))
+    >>> nbr.tolist()
+    [[1, 6], [0, 2], [1, 6]]
+    """
+    n = indptr.shape[0] - 1
+    deg = np.diff(indptr)
+    dmax = int(deg.max(initial=0))
+    width = dmax if dmax <= 2 * indices.shape[0] / max(n, 1) + 8 else 0
+    nbr = np.full((n, width), 2 * n, dtype=np.uint64)
+    if width and deg.min() == width:  # every block has the same degree (a lattice, a ring)
+        nbr[:] = indices.reshape(n, width)
+        return nbr
+    for c in range(width):
+        has = deg > c
+        nbr[has, c] = indices[indptr[:-1][has] + c]
+    return nbr
+
+
+def graph_bundle(indptr, indices, kval, diag, oms, cfr, nbr=None):
+    """The :data:`Graph` of CSR arrays and per-block parameters (float64 ``kval``, ``diag``, ...).
+
+    ``nbr``: the graph's :func:`padded_neighbours`, built here if not given (it depends on the
+    topology only, so a simulation builds it once for every set of parameters).
+    ``k_uniform`` is the springs' constant where all are equal and positive and the neighbour
+    table holds every neighbour, else 0.0.
+    """
+    indptr = np.asarray(indptr, dtype=np.int64)
+    indices = np.asarray(indices, dtype=np.int64)
+    kval = np.asarray(kval, dtype=np.float64)
+    if nbr is None:
+        nbr = padded_neighbours(indptr, indices)
+    hubs = nbr.shape[1] < int(np.diff(indptr).max(initial=0))
+    uniform = not hubs and kval.size > 0 and kval[0] > 0.0 and bool(np.all(kval == kval[0]))
+    return Graph(
+        indptr=indptr,
+        indices=indices,
+        kval=kval,
+        diag=np.asarray(diag, dtype=np.float64),
+        oms=np.asarray(oms, dtype=np.float64),
+        cfr=np.asarray(cfr, dtype=np.float64),
+        k_uniform=float(kval[0]) if uniform else 0.0,
+        nbr=nbr,
+    )
+
+
+def work_array(n, columns):
+    """The float work array ``W`` of :data:`Work` for n blocks: 2 n + 1 rows of zeros."""
+    return np.zeros((2 * n + 1, columns), dtype=np.float64)
+
+
+def tree_size(n):
+    """Length of the failure tree (``State.tree``) for ``n`` leaves (a power of two, doubled)."""
+    leaves = 1
+    while leaves < n:
+        leaves *= 2
+    return 2 * leaves
+
+
+def empty_tree(n):
+    """Allocate the failure tree of ``n`` blocks."""
+    return np.full(tree_size(n), -1, dtype=np.int64)

@@ -1,0 +1,69 @@
+"""The decorators of the kernels: Numba's ``njit`` with a few documented options.
+
+Every kernel is compiled without Numba's reference counting (``_nrt=False``: no allocation
+happens inside them) and releases the GIL.  Only the entry kernels (:mod:`.carlson_langer.
+events`) are called from Python; the others are built without the Python and C wrappers
+(``no_cpython_wrapper``, ``no_cfunc_wrapper``), which saves compile time, and so can be called
+from compiled code only (from Python they would crash).  Every kernel is cached on disk under
+one stamp of all the kernels' sources together (:mod:`.cache`), so that a change to any kernel
+recompiles the entries that contain it.
+
+Which helpers are inlined by Numba (:data:`inline_kernel`) and which are kernels of their
+own (:data:`kernel`, :data:`forced_kernel`) is a trade between compile time and speed,
+measured on the cold compile of a lattice run (``benchmarks/run.py --compile-only``) and
+on events/s (``benchmarks/README.md``):
+
+- Numba types an inlined helper again at each call site, so a small helper called from
+  many places (:func:`~.carlson_langer.physics.force`, the dense output of one block, the
+  neighbours' answers) is a kernel: typed once, and LLVM inlines the small ones into their
+  callers;
+- the DP5 stages' acceleration (:func:`~.carlson_langer.physics.accel_hot`, six sites in one
+  kernel) is a :data:`forced_kernel`: typed once, and marked for LLVM to inline at every site;
+- a helper with one call site is typed once either way; inlined by Numba, its IR is copied
+  and its caller grows (the event's integration, :mod:`.carlson_langer.slip`, is inlined into
+  the event loop).
+
+A kernel compiles once per signature, and Numba types a Python ``int`` or ``bool`` constant
+argument as a literal, one signature per value.  So the constants that kernels pass to one
+another (the work columns ``work.D``, ``P``, ..., the stage columns ``tableau.KV``, ``KA``,
+``response.COMMITTED``) are NumPy scalars, typed ``int64`` or ``boolean``.
+"""
+
+import numba as nb
+
+from faultnet.solver._kernels.cache import disk_cache_available, register, verified
+
+__all__ = ["CACHE", "INNER", "entry", "forced_kernel", "inline_kernel", "kernel"]
+
+# one cache stamp for all kernels (faultnet.solver._kernels.cache), before any kernel is decorated
+register()
+#: whether the kernels are cached on disk (False, after one line saying why, where no cache
+#: folder is writable); every cached file is checked before it is loaded
+CACHE = disk_cache_available()
+
+
+def _cached(**options):
+    """Numba's ``njit`` with the disk cache where there is one, its files checked."""
+    decorate = nb.njit(cache=CACHE, **options)
+    return lambda func: verified(decorate(func))
+
+
+#: options of the kernels called from compiled code only
+#: (``forceinline`` is set so that a kernel's flags never depend on the caller it is first
+#: compiled for: Numba's kernels inherit an unset ``forceinline`` from that caller)
+INNER = {
+    "nogil": True,
+    "_nrt": False,
+    "no_cpython_wrapper": True,
+    "no_cfunc_wrapper": True,
+    "forceinline": False,
+}
+
+#: a kernel called from other kernels
+kernel = _cached(**INNER)
+#: a kernel that LLVM always inlines where it is called (typed once, unlike an inline_kernel)
+forced_kernel = _cached(**dict(INNER, forceinline=True))
+#: a kernel inlined into its callers (Numba IR inlining, before typing)
+inline_kernel = _cached(inline="always", **INNER)
+#: a kernel called from Python
+entry = _cached(nogil=True, _nrt=False)
