@@ -7,12 +7,15 @@ Serves the built site on 127.0.0.1 (a free port, a server thread), then
 
 1. crawls every HTML page over HTTP: every internal link (page and ``#anchor``)
    and every image, stylesheet and script it names must resolve, and no page
-   may hold a Python traceback;
-2. loads the home page, the gallery index, two gallery examples and the API page
-   of ``faultnet.simulate`` in headless Chromium (driven over the DevTools
-   protocol), waits for every image, fails on an image the browser could not
-   decode (``naturalWidth == 0``) or a traceback in the rendered text, and saves
-   a full-page screenshot of each (``docs/_build/screenshots`` by default).
+   may hold a Python traceback, TeX left unrendered or a path of the machine
+   that built it (the checkout, the Python install, a temporary folder);
+2. loads the home page, the model page, "Choosing rtol", the gallery index, two
+   gallery examples and the API page of ``faultnet.simulate`` in headless
+   Chromium (driven over the DevTools protocol), waits for every image, fails
+   on an image the browser could not decode (``naturalWidth == 0``), a traceback
+   in the rendered text or a model page with fewer than six drawn equations,
+   and saves a full-page screenshot of each (``docs/_build/screenshots`` by
+   default).
 
 Exits 1 and lists every problem found; needs Debian's ``chromium`` and the
 ``websocket-client`` package (in the ``docs`` extra).
@@ -42,9 +45,27 @@ from urllib.parse import unquote, urldefrag, urljoin, urlparse
 HERE = Path(__file__).resolve().parent
 #: a Python traceback with its frames (a doctest's expected exception shows no frames)
 TRACEBACK = re.compile(r'Traceback \(most recent call last\):\s+File "')
+#: TeX that reached the page as text: the math renderer did not draw it
+RAW_TEX = re.compile(r"\\(?:d?frac|sum|sigma|alpha|phi|dot|ddot|propto|qquad|mathrm)\b")
+#: equations the model page must show, drawn (``docs/_ext/mathtext_svg.py``)
+MIN_EQUATIONS = 6
+
+
+def _machine_paths():
+    """Paths of the machine that builds the docs, which no page may show."""
+    import os
+    import tempfile
+
+    paths = {str(HERE.parent), sys.prefix, os.path.expanduser("~")}
+    paths.add(os.path.join(tempfile.gettempdir(), "tmp"))  # mkdtemp's folders
+    return sorted(p for p in paths if len(p) > 4)
+
+
 #: the pages opened in the browser: (name, path below the site root)
 PAGES = [
     ("home", "index.html"),
+    ("model", "guide/model.html"),
+    ("choosing-rtol", "guide/accuracy.html"),  # its first section
     ("gallery", "auto_examples/index.html"),
     ("example-fig08", "auto_examples/plot_fig08_magnitude_1d_2d.html"),
     ("example-showcase", "auto_examples/plot_showcase_b_vs_alpha.html"),
@@ -58,7 +79,7 @@ Promise.all(Array.from(document.images).map(img => {
 })).then(() => JSON.stringify({
     images: Array.from(document.images).map(img => ({
         src: img.currentSrc || img.src, ok: img.complete && img.naturalWidth > 0,
-        width: img.naturalWidth})),
+        width: img.naturalWidth, cls: img.className})),
     text: document.body.innerText,
     title: document.title,
 }))
@@ -92,12 +113,22 @@ class _Links(HTMLParser):
         self.refs = []  # (kind, url)
         self.ids = set()
         self.text = []
+        self.prose = []  # the text outside code blocks
+        self._code = 0
 
     def handle_data(self, data):
         self.text.append(data)
+        if not self._code:
+            self.prose.append(data)
+
+    def handle_endtag(self, tag):
+        if tag == "pre" and self._code:
+            self._code -= 1
 
     def handle_starttag(self, tag, attrs):
         a = dict(attrs)
+        if tag == "pre":
+            self._code += 1
         for key in ("id", "name"):
             if a.get(key):
                 self.ids.add(a[key])
@@ -137,8 +168,15 @@ def crawl(base):
         parser = _Links()
         parser.feed(text)
         pages[url] = (parser, text)
-        if TRACEBACK.search("".join(parser.text)):
+        shown = "".join(parser.text)
+        if TRACEBACK.search(shown):
             problems.append(f"{url}: the page holds a Python traceback")
+        raw = RAW_TEX.search("".join(parser.prose))
+        if raw:
+            problems.append(f"{url}: TeX shown as text: {raw.group(0)}")
+        for path in _machine_paths():
+            if path in shown:
+                problems.append(f"{url}: shows a path of the build machine ({path})")
         for kind, ref in parser.refs:
             target = urljoin(url, ref)
             if urlparse(target).netloc != urlparse(base).netloc or target.startswith(
@@ -275,8 +313,11 @@ def browse(base, shots, exe):
             problems += [f"{path}: image did not load in the browser: {src}" for src in bad]
             if TRACEBACK.search(report["text"]):
                 problems.append(f"{path}: the rendered page shows a Python traceback")
-            if not report["images"] and name != "api-simulate":
+            if not report["images"] and name not in ("api-simulate", "choosing-rtol"):
                 problems.append(f"{path}: no image on the page")
+            drawn = [i for i in report["images"] if i["ok"] and "math" in i.get("cls", "")]
+            if name == "model" and len(drawn) < MIN_EQUATIONS:
+                problems.append(f"{path}: {len(drawn)} drawn equations, fewer than {MIN_EQUATIONS}")
             out = shots / f"{name}.png"
             browser.screenshot(out)
             print(

@@ -15,6 +15,7 @@ from pathlib import Path
 DOCS = Path(__file__).resolve().parent
 ROOT = DOCS.parent
 sys.path.insert(0, str(ROOT))  # document the checkout that is being built
+sys.path.insert(0, str(DOCS / "_ext"))  # mathtext_svg: the equations, drawn at build time
 os.environ.setdefault("MPLBACKEND", "Agg")
 # the example scripts save their PNGs here instead of into examples/figures
 os.environ.setdefault("FAULTNET_FIGURES", str(DOCS / "_build" / "example_figures"))
@@ -32,7 +33,9 @@ extensions = [
     "sphinx.ext.autosummary",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
+    "mathtext_svg",
 ]
+html_math_renderer = "mathtext"  # offline SVG equations instead of MathJax from a CDN
 
 templates_path = ["_templates"]
 exclude_patterns = ["_build", "_generated", "**/*.ipynb"]

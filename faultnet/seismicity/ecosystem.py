@@ -6,7 +6,7 @@ both are imported inside the functions, so ``import faultnet`` stays fast.
 Magnitude conventions
 ---------------------
 faultnet's magnitude is ``M = ln S`` (``S`` the total slip of an event) and
-its exponent ``b`` is that of ``P(M) \propto e^{-bM}`` (Sakaguchi & Morita
+its exponent ``b`` is that of :math:`P(M) \propto e^{-bM}` (Sakaguchi & Morita
 2013; :mod:`faultnet.stats.magnitudes`).  :func:`to_seismostats` writes one of three
 magnitudes, chosen with ``magnitude=``:
 
@@ -14,17 +14,17 @@ magnitudes, chosen with ``magnitude=``:
     A moment-magnitude-like ``m = (2/3) log10 S + offset`` (slip as a proxy of
     the seismic moment, ``Mw = (2/3) log10 M0 + const``).  Then
     ``ln S = (3/2) ln(10) (m - offset)`` and
-    ``P(m) \propto e^{-b (3/2) ln(10) m} = 10^{-1.5 b m}``:
+    :math:`P(m) \propto e^{-b (3/2) \ln(10)\, m} = 10^{-1.5\, b\, m}`:
     the Gutenberg-Richter ``b_GR = 1.5 b`` (:attr:`faultnet.BFit.b_gr`;
     the paper's ``b = 2/3`` is ``b_GR = 1``).
 ``"log10"``
-    ``m = log10 S + offset``: ``P(m) \propto 10^{-b m}``, ``b_GR = b``.
+    ``m = log10 S + offset``: :math:`P(m) \propto 10^{-b m}`, ``b_GR = b``.
 ``"ln"``
     ``m = ln S + offset = M + offset`` as is: SeismoStats' ``beta = b`` and its
     ``b_value = b / ln 10``.
 
 SeismoStats' ``b_value`` is the base-10 exponent of its magnitudes and its
-``beta = b_value ln 10``; powerlaw's ``Fit`` fits ``P(S) \propto S^{-alpha}``
+``beta = b_value ln 10``; powerlaw's ``Fit`` fits :math:`P(S) \propto S^{-\alpha}`
 on the slips, ``alpha = 1 + b`` (:attr:`faultnet.BFit.powerlaw_alpha`).
 :data:`B_VALUE_FACTOR` holds ``b_value / b`` for each magnitude choice.
 

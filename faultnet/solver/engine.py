@@ -45,7 +45,9 @@ def simulate(
 ) -> SimulationResult:
     """Run ``n_events`` slip events of a Carlson-Langer model.
 
-    A one-chunk :class:`Simulator`: ``Simulator(model, x0, rng, options).advance(n_events)``.
+    A one-chunk :class:`Simulator`:
+    ``Simulator(model, x0=x0, rng=rng, options=options).advance(n_events)``.  Every argument
+    after ``n_events`` is a keyword.
 
     Parameters
     ----------
@@ -68,7 +70,7 @@ def simulate(
         Show a progress bar (None: only on a terminal).
     options : RunOptions, dict or None
         Every numerical choice of the run (scheme, step, crossing treatment,
-        solo-slip cache, guards); recorded in ``metadata["options"]``.
+        guards); recorded in ``metadata["options"]``.
     method : {"dopri5"}, optional
         Shortcut for ``options.method``.
     rtol : float, optional
