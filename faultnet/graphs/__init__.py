@@ -1,7 +1,10 @@
-"""Graph builders: chains, rings, square and triangular lattices, percolation clusters.
+"""Graph builders: chains, rings, square and triangular lattices, percolation clusters, and
+networks of faults (parallel faults, step-overs, branches, any faults composed).
 
 Each builder returns a networkx graph (or, for the largest lattices, a
 :class:`~faultnet.SparseGraph`) that any faultnet model takes as its network of blocks.
+The fault builders set the node attribute ``fault`` (the segment of each block) and give
+the coupling springs between faults their own ``k``.
 """
 
 from faultnet.graphs.builders import (
@@ -12,6 +15,7 @@ from faultnet.graphs.builders import (
     square_lattice,
     triangular_lattice,
 )
+from faultnet.graphs.faults import branch, compose, parallel_faults, step_over
 
 __all__ = [
     "chain",
@@ -20,4 +24,8 @@ __all__ = [
     "triangular_lattice",
     "site_percolation",
     "percolation_threshold",
+    "parallel_faults",
+    "step_over",
+    "branch",
+    "compose",
 ]

@@ -5,7 +5,9 @@ Every reader (:func:`~faultnet.io.parquet.read_catalog`, the statistics of
 ``faultnet info`` and ``--resume``) opens a catalog through :func:`open_catalog_file`, so a
 damaged file is one :class:`~faultnet.exceptions.CatalogError` naming it: a missing file or
 column, metadata that is not a JSON object or holds a count as text, a row count that differs
-from ``n_events``, event numbers with gaps or duplicates.
+from ``n_events``, event numbers with gaps or duplicates.  The label columns that the metadata
+names as encoded (:mod:`faultnet.io.labels`) are decoded by the readers of event rows,
+:func:`~faultnet.io.parquet.read_catalog` and :func:`~faultnet.io.parquet.iter_catalog`.
 """
 
 from __future__ import annotations
@@ -19,6 +21,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from faultnet.exceptions import CatalogError
+from faultnet.io.labels import LABEL_TAGS, LABELS_KEY
 from faultnet.model.state import State
 
 __all__ = [
@@ -61,6 +64,11 @@ def decode_metadata(raw):
         value = md.get(key)
         if value is not None and (not isinstance(value, (int, float)) or isinstance(value, bool)):
             raise ValueError(f"{key} must be a number; got {value!r}")
+    tags = md.get(LABELS_KEY, {})
+    if not isinstance(tags, dict) or not all(tag in LABEL_TAGS for tag in tags.values()):
+        raise ValueError(
+            f"{LABELS_KEY} must map label columns to one of {', '.join(LABEL_TAGS)}; got {tags!r}"
+        )
     for key, value in md.items():
         if key.endswith("spawn_key") and isinstance(value, list):
             md[key] = tuple(value)

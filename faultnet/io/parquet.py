@@ -10,7 +10,8 @@ of the Parquet schema metadata, so any Parquet reader sees the table and
 Every file is written atomically (see :mod:`faultnet.io.atomic`): a reader
 sees either no file or a complete one, whenever the writer is killed.
 Nothing is overwritten unless asked (``overwrite=True``).  Statistics and
-text summaries of a catalog file live in :mod:`faultnet.io.summary`.
+text summaries of a catalog file live in :mod:`faultnet.io.summary`; node and
+fault labels are stored and read back as :mod:`faultnet.io.labels` describes.
 
 Long runs are written in parts (:func:`write_part`, one per chunk of events)
 and joined at the end by :func:`merge_parts`, which streams one part at a
@@ -63,6 +64,15 @@ from faultnet.io.catalog_file import (
     read_state,
     state_bytes,
     verify_catalog,
+)
+from faultnet.io.labels import (
+    conform_table,
+    decode_frame,
+    encode_frame,
+    label_tags,
+    merge_targets,
+    merged_schema,
+    with_label_tags,
 )
 
 __all__ = [
@@ -190,35 +200,20 @@ def utc_now():
 # --------------------------------------------------------------------------- tables
 
 
-def _plain_labels(typ):
-    return pa.types.is_integer(typ) or pa.types.is_string(typ) or pa.types.is_large_string(typ)
-
-
 def events_to_table(events, metadata=None, state=None) -> pa.Table:
     """Arrow table of an events DataFrame, with ``metadata`` in the schema.
 
-    Node labels that Parquet cannot hold as one column type (tuples, mixed
-    types) are stored as their ``repr`` and ``metadata["hypocenter_labels"]``
-    says so.
+    Label columns of integers or strings are stored as they are; other labels (tuples,
+    integers mixed with strings) as their JSON, named in ``metadata["labels"]``, and labels
+    of any other type are refused (:mod:`faultnet.io.labels`).
     """
     if not isinstance(events, pd.DataFrame):
         raise InvalidParameterError(
             f"events must be a pandas DataFrame; got {type(events).__name__}"
         )
-    md = dict(metadata or {})
-    try:
-        table = pa.Table.from_pandas(events, preserve_index=False)
-        plain = "hypocenter" not in table.column_names or _plain_labels(
-            table.schema.field("hypocenter").type
-        )
-    except (pa.ArrowInvalid, pa.ArrowTypeError, pa.ArrowNotImplementedError):
-        if "hypocenter" not in events:
-            raise
-        plain = False
-    if not plain:
-        events = events.assign(hypocenter=events["hypocenter"].map(repr).astype(str))
-        table = pa.Table.from_pandas(events, preserve_index=False)
-        md["hypocenter_labels"] = "repr"
+    events, tags = encode_frame(events)
+    md = with_label_tags(metadata or {}, tags)
+    table = pa.Table.from_pandas(events, preserve_index=False)
     schema_md = dict(table.schema.metadata or {})
     schema_md[METADATA_KEY] = _encode_metadata(md)
     if state is not None:
@@ -240,30 +235,28 @@ def merge_parts(parts, out, metadata, *, overwrite=False, state=None):
     ``state`` after the last event, where given).
 
     The result is written to a temporary file and renamed onto ``out``, so a
-    kill during the merge leaves ``out`` as it was.
+    kill during the merge leaves ``out`` as it was.  A label column stored alike in every
+    part is copied; one stored differently (integers in one part, JSON in another) becomes
+    JSON in every part (:func:`faultnet.io.labels.merge_targets`).
     """
     parts = [os.fspath(p) for p in parts]
     if not parts:
         raise InvalidParameterError("merge_parts needs at least one part file")
-    first = pq.read_schema(parts[0])
+    schemas = [pq.read_schema(part) for part in parts]  # footers only
+    tags = [label_tags(_part_metadata(schema)) for schema in schemas]
+    targets = merge_targets(schemas, tags)
+    first = merged_schema(schemas[0], targets)
     own = (METADATA_KEY, STATE_KEY)
     schema_md = {k: v for k, v in (first.metadata or {}).items() if k not in own}
-    part_md = (
-        decode_metadata(first.metadata[METADATA_KEY])
-        if first.metadata and METADATA_KEY in first.metadata
-        else {}
-    )
-    md = dict(metadata)
-    if "hypocenter_labels" in part_md:
-        md["hypocenter_labels"] = part_md["hypocenter_labels"]
-    schema_md[METADATA_KEY] = _encode_metadata(md)
+    merged_tags = {name: tag for name, (_, tag) in targets.items() if tag is not None}
+    schema_md[METADATA_KEY] = _encode_metadata(with_label_tags(metadata, merged_tags))
     if state is not None:
         schema_md[STATE_KEY] = state_bytes(state)
     schema = first.with_metadata(schema_md)
     with atomic_path(out, overwrite=overwrite) as tmp:
         with pq.ParquetWriter(tmp, schema, **_parquet_options(schema)) as writer:
-            for part in parts:
-                table = pq.read_table(part)
+            for part, part_tags in zip(parts, tags, strict=True):
+                table = conform_table(pq.read_table(part), part_tags, targets)
                 if not table.schema.equals(first, check_metadata=False):
                     raise CatalogError(
                         f"part {part} has columns {table.schema.names} of other types than "
@@ -272,6 +265,11 @@ def merge_parts(parts, out, metadata, *, overwrite=False, state=None):
                 writer.write_table(table)
                 del table
     return os.fspath(out)
+
+
+def _part_metadata(schema):
+    raw = (schema.metadata or {}).get(METADATA_KEY)
+    return decode_metadata(raw) if raw is not None else {}
 
 
 @dataclass
@@ -309,8 +307,9 @@ class Catalog:
         )
 
 
-def _to_pandas(table):
-    return table.to_pandas()
+def _to_pandas(table, md, path):
+    """The events of ``table``, their label columns decoded as metadata ``md`` says."""
+    return decode_frame(table.to_pandas(), label_tags(md), path)
 
 
 def read_catalog(path, columns=None) -> Catalog:
@@ -332,15 +331,16 @@ def read_catalog(path, columns=None) -> Catalog:
         table = pq.read_table(path, columns=columns)
     except (OSError, pa.ArrowException) as exc:
         raise CatalogError(f"cannot read catalog {path}: {exc}") from exc
-    return Catalog(events=_to_pandas(table), metadata=md, path=path)
+    return Catalog(events=_to_pandas(table, md, path), metadata=md, path=path)
 
 
 def iter_catalog(path, batch_size=1_000_000, columns=None):
-    """Yield the catalog as DataFrames of at most ``batch_size`` rows (streaming)."""
-    path, _ = open_catalog_file(path)
+    """Yield the catalog as DataFrames of at most ``batch_size`` rows (streaming), their label
+    columns decoded as by :func:`read_catalog`."""
+    path, md = open_catalog_file(path)
     pf = pq.ParquetFile(path)
     for batch in pf.iter_batches(batch_size=batch_size, columns=columns):
-        yield _to_pandas(pa.Table.from_batches([batch]))
+        yield _to_pandas(pa.Table.from_batches([batch]), md, path)
 
 
 def write_catalog(obj, path, metadata=None, *, overwrite=False):

@@ -1,4 +1,4 @@
-"""Matplotlib views of catalogs, profiles, return maps and graphs.
+"""Matplotlib views of catalogs, slip profiles, time series and return maps.
 
 Every function draws on ``ax`` (a new figure when None) and returns the Axes.
 Matplotlib is imported inside the functions, so ``import faultnet.plotting.figures`` is
@@ -26,7 +26,6 @@ from faultnet._validate import check_columns
 from faultnet.exceptions import InvalidParameterError
 
 __all__ = [
-    "plot_graph",
     "plot_magnitude_distribution",
     "plot_profiles",
     "plot_return_map",
@@ -230,98 +229,4 @@ def plot_return_map(table, ax=None, **kw):
     ax.set_xlabel("x2 - x1")
     ax.set_ylabel("x2' - x1'")
     ax.legend()
-    return ax
-
-
-def _positions(graph, nodes):
-    pos = [graph.nodes[v].get("pos") for v in nodes]
-    if any(p is None for p in pos):
-        import networkx as nx
-
-        layout = nx.spring_layout(graph, seed=0)
-        pos = [layout[v] for v in nodes]
-    return np.asarray(pos, dtype=np.float64).reshape(len(nodes), 2)
-
-
-def plot_graph(graph, ax=None, color_by=None, linewidth=0.5, max_edge_length=None, cmap=None):
-    """Draw a graph's springs as line segments (fast for 150 x 150 lattices).
-
-    Parameters
-    ----------
-    graph : networkx.Graph or CarlsonLanger
-        Node attribute ``pos`` gives positions (lattices from
-        :mod:`faultnet.graphs.builders` have it); otherwise a spring layout is used.
-    ax : matplotlib.axes.Axes, optional
-    color_by : None, "component" or array_like, optional
-        None: one colour.  ``"component"``: each connected cluster its own
-        colour (isolated blocks as dots), as in percolation pictures.  An
-        array with one value per node (node order): nodes drawn as coloured
-        dots with a colour bar.
-    linewidth : float, optional
-    max_edge_length : float, optional
-        Hide longer bonds.  Default: 1.5 lattice spacings for periodic
-        lattices (``"periodic=True"`` in the graph name, so wrap-around bonds
-        do not cross the picture), otherwise show all.
-    cmap : str, optional
-        Colour map for ``color_by`` (default ``tab10`` / ``viridis``).
-
-    Returns
-    -------
-    matplotlib.axes.Axes
-    """
-    import networkx as nx
-    from matplotlib import colormaps
-    from matplotlib.collections import LineCollection
-
-    from faultnet.model.carlson_langer import CarlsonLanger, SparseGraph
-
-    if isinstance(graph, CarlsonLanger):
-        graph = graph.graph
-    if not isinstance(graph, nx.Graph):
-        what = (
-            "a SparseGraph, which has no node positions"
-            if isinstance(graph, SparseGraph)
-            else type(graph).__name__
-        )
-        raise TypeError(f"graph must be a networkx.Graph or a CarlsonLanger of one; got {what}")
-    ax = _axes(ax)
-    nodes = list(graph.nodes)
-    index = {v: i for i, v in enumerate(nodes)}
-    xy = _positions(graph, nodes)
-    edges = np.array([(index[a], index[b]) for a, b in graph.edges], dtype=np.int64).reshape(-1, 2)
-    segments = xy[edges]  # (E, 2, 2)
-    if max_edge_length is None and "periodic=True" in str(graph.graph.get("name", "")):
-        max_edge_length = 1.5
-    if max_edge_length is not None and len(edges):
-        keep = np.linalg.norm(segments[:, 1] - segments[:, 0], axis=1) <= max_edge_length
-        segments, edges = segments[keep], edges[keep]
-    colors = "0.2"
-    if isinstance(color_by, str):
-        if color_by != "component":
-            raise InvalidParameterError(
-                f"color_by must be None, 'component' or an array; got {color_by!r}"
-            )
-        label = np.empty(len(nodes), dtype=np.int64)
-        comps = sorted(nx.connected_components(graph), key=len, reverse=True)
-        for c, comp in enumerate(comps):
-            label[[index[v] for v in comp]] = c
-        palette = colormaps[cmap or "tab10"]
-        node_colors = np.asarray(palette(label % palette.N))
-        colors = node_colors[edges[:, 0]] if len(edges) else "0.2"
-        lonely = np.array([graph.degree(v) == 0 for v in nodes], dtype=bool)
-        if lonely.any():
-            ax.scatter(xy[lonely, 0], xy[lonely, 1], s=2, c=node_colors[lonely], linewidths=0)
-    ax.add_collection(LineCollection(segments, colors=colors, linewidths=linewidth))
-    if color_by is not None and not isinstance(color_by, str):
-        values = np.asarray(color_by, dtype=np.float64)
-        if values.shape != (len(nodes),):
-            raise InvalidParameterError(
-                f"color_by needs one value per node ({len(nodes)}); got {values.shape}"
-            )
-        dots = ax.scatter(xy[:, 0], xy[:, 1], c=values, s=8, cmap=cmap or "viridis", zorder=3)
-        ax.figure.colorbar(dots, ax=ax)
-    ax.update_datalim(xy)
-    ax.autoscale_view()
-    ax.set_aspect("equal")
-    ax.set_axis_off()
     return ax

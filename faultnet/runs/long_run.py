@@ -31,6 +31,7 @@ from faultnet._validate import check_int, check_memory, seed_sequence
 from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
 from faultnet.io.atomic import atomic_write_json
 from faultnet.io.catalog_file import read_metadata, read_state, verify_catalog
+from faultnet.io.labels import check_labels
 from faultnet.io.lock import LOCK_SUFFIX, output_lock
 from faultnet.io.parquet import check_catalog_path, merge_parts
 from faultnet.runs.checkpoint import (
@@ -219,6 +220,8 @@ class LongRun:
         its chunks into the output.  ``rng`` and the other arguments are those of
         :func:`simulate_to_parquet`; on resume, ``rng=None`` takes the stored seed."""
         job = _job(model, n_events, **arguments)
+        if not isinstance(model.nodes, range):  # refused now rather than at the first chunk
+            check_labels(model.nodes, f"{self.out}: the graph's node labels")
         resume = self.resume or self.extend
         if self.extend:
             self._prepare_extension(job["n_events"])

@@ -77,13 +77,13 @@ def test_string_and_tuple_node_labels(tmp_path):
     fio.write_catalog(res, tmp_path / "s.parquet")
     back = fio.read_catalog(tmp_path / "s.parquet").events
     pd.testing.assert_frame_equal(back, res.events, check_exact=True)
-    # labels Parquet cannot hold in one column (tuples) are kept as their repr
+    # labels Parquet cannot hold in one column (tuples) come back as tuples
     events = res.events.copy()
     events["hypocenter"] = pd.Series([(i, i + 1) for i in range(len(events))], dtype=object)
     fio.write_catalog(events, tmp_path / "t.parquet")
     cat = fio.read_catalog(tmp_path / "t.parquet")
-    assert cat.metadata["hypocenter_labels"] == "repr"
-    assert list(cat.events["hypocenter"]) == [repr(h) for h in events["hypocenter"]]
+    assert cat.metadata["labels"] == {"hypocenter": "json"}
+    pd.testing.assert_frame_equal(cat.events, events, check_exact=True)
 
 
 def test_never_overwrites_and_atomic(tmp_path, ring_result):

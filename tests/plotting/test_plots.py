@@ -131,6 +131,29 @@ def test_plot_graph_large_lattice_is_fast(tmp_path):
     assert len(ax.collections[0].get_segments()) == lattice.number_of_edges()
 
 
+def test_plot_faults_colours_faults_and_dashes_couplings(tmp_path):
+    G = faultnet.graphs.parallel_faults(3, 12, k_coupling=2.0, spacing=2.0, periodic=True)
+    ax = plots.plot_faults(faultnet.CarlsonLanger(G))
+    inside, coupling = [c for c in ax.collections if isinstance(c, LineCollection)]
+    assert len(inside.get_segments()) == 3 * 11  # the wrap-around springs hidden
+    assert len(np.unique(inside.get_colors(), axis=0)) == 3
+    assert len(coupling.get_segments()) == 2 * 12
+    assert coupling.get_linestyle()[0][1] is not None  # dashed
+    dots = [c for c in ax.collections if isinstance(c, PathCollection)]
+    assert len(dots) == 1 and len(dots[0].get_offsets()) == 36
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["0", "1", "2", "coupling"]
+    _save(ax, tmp_path, "faults")
+    fig, ax2 = plt.subplots()
+    branched = faultnet.graphs.branch(10, 5, at=4, k_coupling=0, names=("main", ("b", 1)))
+    assert plots.plot_faults(branched, ax=ax2, legend=False, node_size=0) is ax2
+    assert ax2.get_legend() is None
+    assert len([c for c in ax2.collections if isinstance(c, LineCollection)]) == 1
+    # plot_graph hides the same wrap-around springs, by the graph's period
+    assert len(plots.plot_graph(G).collections[0].get_segments()) == 3 * 11 + 2 * 12
+    with pytest.raises(ValueError, match="'fault' attribute"):
+        plots.plot_faults(faultnet.graphs.ring(5))
+
+
 def test_magnitude_distribution_leaves_gaps_at_empty_bins():
     import numpy as np
 
