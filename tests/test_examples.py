@@ -114,23 +114,44 @@ TINY = {
 }
 
 
+def run_magnitudes(graph, alpha, n_events, transient_t, seed):
+    """A small builder like the pages' own: magnitudes of a ring after a transient."""
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(graph["n"]), alpha=alpha)
+    state, n_trans, t_now = None, 0, 0.0
+    while t_now < transient_t:
+        res = faultnet.simulate(model, 100, x0=state, rng=seed, progress=False)
+        state, n_trans = res.state, n_trans + len(res.events)
+        t_now = float(res.events["t"].iloc[-1])
+    res = faultnet.simulate(model, n_events, x0=state, rng=seed, progress=False)
+    t = res.events["t"].to_numpy()
+    return {
+        "M": res.events["M"].to_numpy(),
+        "n_events": len(t),
+        "n_transient_events": n_trans,
+        "transient_t": transient_t,
+        "t_start": float(t[0]),
+        "t_end": float(t[-1]),
+        "seed": seed,
+        "alpha": alpha,
+    }
+
+
 def test_paper_data_store_and_load_round_trip(tmp_path, monkeypatch, capsys):
     paper = _load_helper()
     monkeypatch.setenv("FAULTNET_DATA", str(tmp_path))
-    first, prov1 = paper.load_or_run("tiny", paper.run_magnitudes, TINY)
+    codec = {"encode": paper.encode_magnitudes, "decode": paper.decode_magnitudes}
+    first, prov1 = paper.load_or_run("tiny", run_magnitudes, TINY, **codec)
     path = tmp_path / "tiny.npz"
     assert path.is_file() and prov1["source"] == "computed"
-    assert (
-        first["n_events"] == 300
-        and first["counts"].sum() + first["underflow"] + first["overflow"] == 300
-    )
+    assert first["n_events"] == 300 == first["M"].size
+    assert first["counts"].sum() + first["underflow"] + first["overflow"] == 300
     assert first["n_transient_events"] > 0 and first["t_start"] >= 0.5
 
-    again, prov2 = paper.load_or_run("tiny", paper.run_magnitudes, TINY)
-    assert prov2["source"].startswith("loaded")
-    for key in ("counts", "M_edges"):
+    again, prov2 = paper.load_or_run("tiny", run_magnitudes, TINY, **codec)
+    assert prov2["source"] == "loaded tiny.npz"
+    for key in ("counts", "M_edges", "M"):
         np.testing.assert_array_equal(again[key], first[key])
-    for key in ("n_events", "n_transient_events", "seed", "alpha", "t_end", "M_max"):
+    for key in ("n_events", "n_transient_events", "seed", "alpha", "t_end"):
         assert again[key] == first[key]
     for key in (
         "faultnet_version",
@@ -149,36 +170,73 @@ def test_paper_data_store_and_load_round_trip(tmp_path, monkeypatch, capsys):
 
     # other parameters: the stored file is not used but recomputed and replaced
     other = dict(TINY, seed=4)
-    _, prov3 = paper.load_or_run("tiny", paper.run_magnitudes, other)
+    _, prov3 = paper.load_or_run("tiny", run_magnitudes, other, **codec)
     assert prov3["source"] == "computed"
     _, stored = paper.load_result(path)
     assert stored["params"]["seed"] == 4
-    assert "holds other parameters" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "holds other parameters" in out
+    assert str(tmp_path) not in out  # messages name the file, not its folder
 
 
-def test_regenerate_command_writes_the_entry(tmp_path, monkeypatch):
+TINY_PAGE = """
+import _paper_data as paper
+import faultnet
+
+
+def run_magnitudes(graph, alpha, n_events, transient_t, seed):
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(graph["n"]), alpha=alpha)
+    res = faultnet.simulate(model, n_events, rng=seed, progress=False)
+    return {{"M": res.events["M"].to_numpy(), "n_events": n_events}}
+
+
+paper.ENTRIES["tiny"] = {entry!r}
+paper.magnitudes("tiny", run_magnitudes, paper.fast_mode())
+"""
+
+
+def test_regenerate_command_reruns_the_page(tmp_path, monkeypatch):
+    """``--regenerate NAME`` removes the stored file and runs the page that computes it."""
     paper = _load_helper()
-    monkeypatch.setattr(paper, "ENTRIES", {"tiny": {"paper": TINY, "fast": TINY}})
-    assert paper.main(["--regenerate", "tiny", "--data-dir", str(tmp_path)]) == 0
+    entry = {"paper": TINY, "fast": TINY}
+    page = tmp_path / "plot_tiny.py"
+    page.write_text(TINY_PAGE.format(entry=entry))
+    monkeypatch.syspath_prepend(str(EXAMPLES))  # the page imports _paper_data
+    monkeypatch.setenv("FAULTNET_DATA", str(tmp_path / "unused"))  # restored afterwards
+    monkeypatch.delenv("FAULTNET_FAST", raising=False)
+    monkeypatch.setattr(paper, "page_of", lambda name: page)
+    (tmp_path / "tiny.npz").write_bytes(b"stale")
+    entries = {"tiny": entry}
+    assert paper.main(["--regenerate", "tiny", "--data-dir", str(tmp_path)], entries=entries) == 0
     result, prov = paper.load_result(tmp_path / "tiny.npz")
     assert prov["name"] == "tiny" and result["n_events"] == 300
+    assert prov["command"].endswith("plot_tiny.py")
     with pytest.raises(SystemExit):
         paper.main(["--regenerate", "no_such_entry"])
 
 
-def test_histogram_fits_match_fits_on_raw_magnitudes():
+def test_every_stored_entry_has_a_page():
+    paper = _load_helper()
+    names = [*paper.ENTRIES, "seis_ring_alpha1", "seis_ring_alpha2", "seis_percolation_alpha1"]
+    for name in names:
+        assert paper.page_of(name).is_file(), name
+
+
+def test_stored_magnitudes_give_the_fits_of_the_raw_ones():
     paper = _load_helper()
     rng = np.random.default_rng(0)
     M = -6.0 + rng.exponential(1 / 0.67, 20_000)
-    counts, _ = np.histogram(M, bins=paper.M_EDGES)
-    assert counts.sum() == M.size
-    result = {"M_edges": paper.M_EDGES, "counts": counts, "underflow": 0, "overflow": 0}
-    lsq, mle = paper.fits(result, (-6.0, 3.0))
+    stored = paper.encode_magnitudes({"M": M})
+    assert stored["counts"].sum() == M.size and stored["underflow"] == stored["overflow"] == 0
+    binned = paper.decode_magnitudes(stored)["M"]
+    assert binned.size == M.size and np.all(np.abs(np.sort(binned) - np.sort(M)) <= 0.025 + 1e-12)
+    lsq = faultnet.fit_b_lsq(binned, -6.0, 3.0)
+    mle = faultnet.fit_b_mle(binned, m_min=-6.0)
     raw_lsq = faultnet.fit_b_lsq(M, -6.0, 3.0)
     raw_mle = faultnet.fit_b_mle(M, m_min=-6.0)
-    assert lsq.b == pytest.approx(raw_lsq.b, rel=1e-12)  # window = union of fine bins
+    assert lsq.b == pytest.approx(raw_lsq.b, rel=1e-12)  # window = union of stored bins
     assert mle.b == pytest.approx(raw_mle.b, rel=1e-3)
-    table = paper.magnitude_table(result, width=0.25)
+    table = faultnet.magnitude_distribution(binned, bins=np.arange(-16.0, 16.0 + 1e-9, 0.25))
     assert float((table["density"] * table["width"]).sum()) == pytest.approx(1.0)
 
 

@@ -13,32 +13,23 @@ one unit apart.
 from __future__ import annotations
 
 import math
-import numbers
 from collections.abc import Mapping
 
 import networkx as nx
 
 from faultnet._validate import check_finite, check_int, check_positive
 from faultnet.exceptions import InvalidParameterError
+from faultnet.model.faults import FAULT_LABEL_RULE, fault_label_ok
 
 __all__ = ["branch", "compose", "parallel_faults", "step_over"]
-
-_NAME_RULE = "a str, an int or a tuple of those"
-
-
-def _is_fault_name(value):
-    def atom(v):
-        return isinstance(v, str) or (isinstance(v, numbers.Integral) and not isinstance(v, bool))
-
-    return atom(value) or (isinstance(value, tuple) and len(value) > 0 and all(map(atom, value)))
 
 
 def _check_names(names, count):
     """``names`` as a tuple of ``count`` distinct fault names."""
     ok = isinstance(names, list | tuple) and len(names) == count
-    if not (ok and all(map(_is_fault_name, names)) and len(set(names)) == count):
+    if not (ok and all(map(fault_label_ok, names)) and len(set(names)) == count):
         raise InvalidParameterError(
-            f"names must be {count} distinct fault names ({_NAME_RULE}); got {names!r}"
+            f"names must be {count} distinct fault names ({FAULT_LABEL_RULE}); got {names!r}"
         )
     return tuple(names)
 
@@ -74,7 +65,7 @@ def _check_coupling_item(i, item, graphs):
         )
     a, node_a, b, node_b, k = item
     for fault, node in ((a, node_a), (b, node_b)):
-        if not _is_fault_name(fault) or fault not in graphs:
+        if not fault_label_ok(fault) or fault not in graphs:
             raise InvalidParameterError(
                 f"{where} names the fault {fault!r}, which is not a key of graphs ({list(graphs)})"
             )
@@ -137,9 +128,9 @@ def compose(graphs, couplings=()):
         )
     G = nx.Graph()
     for name, g in graphs.items():
-        if not _is_fault_name(name):
+        if not fault_label_ok(name):
             raise InvalidParameterError(
-                f"graphs must have fault names ({_NAME_RULE}) as keys; got {name!r}"
+                f"graphs must have fault names ({FAULT_LABEL_RULE}) as keys; got {name!r}"
             )
         if not isinstance(g, nx.Graph) or g.is_directed() or g.is_multigraph():
             raise InvalidParameterError(

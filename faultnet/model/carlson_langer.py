@@ -11,6 +11,7 @@ import networkx as nx
 import numpy as np
 
 from faultnet.exceptions import InvalidParameterError
+from faultnet.model.faults import fault_numbers
 
 if TYPE_CHECKING:  # scipy.sparse is imported where used: 0.2 s off `import faultnet`
     import scipy.sparse as sp
@@ -158,6 +159,11 @@ class CarlsonLanger:
         Weighted graph Laplacian ``diag(sum_j k_ij) - K``.
     sigma_values, alpha_values : numpy.ndarray
         Per-block friction parameters in node order.
+    faults : list or None
+        The fault labels of a network of faults (node attribute ``fault``, set on every
+        block or on none), in order of first appearance; None without them.
+    fault_number : numpy.ndarray or None
+        Each block's index into ``faults`` (int64, node order).
 
     Examples
     --------
@@ -177,6 +183,8 @@ class CarlsonLanger:
     adjacency: sp.csr_matrix = field(init=False, repr=False)
     sigma_values: np.ndarray = field(init=False, repr=False)
     alpha_values: np.ndarray = field(init=False, repr=False)
+    faults: list | None = field(init=False, repr=False, default=None)
+    fault_number: np.ndarray | None = field(init=False, repr=False, default=None)
 
     def __post_init__(self):
         g = self.graph
@@ -212,6 +220,9 @@ class CarlsonLanger:
         set_(self, "adjacency", self._build_adjacency(g, index))
         set_(self, "sigma_values", self._node_values(g, "sigma", self.sigma, _check_sigma))
         set_(self, "alpha_values", self._node_values(g, "alpha", self.alpha, _check_alpha))
+        faults, number = fault_numbers(g)
+        set_(self, "faults", faults)
+        set_(self, "fault_number", number)
 
     def _init_sparse(self, g):
         set_ = object.__setattr__

@@ -21,9 +21,9 @@ def _label_key(node):
 def graph_hash(model) -> str:
     """SHA-256 (hex) of a model's graph and parameters, in node order.
 
-    It covers the node labels, the edges with their spring constants and the
-    per-block sigma and alpha, so two models hash equal exactly when every run
-    on them is the same.
+    It covers the node labels, the edges with their spring constants, the
+    per-block sigma and alpha and, on a network of faults, the blocks' faults,
+    so two models hash equal exactly when every run on them is the same.
 
     >>> import faultnet
     >>> m = faultnet.CarlsonLanger(faultnet.graphs.ring(5))
@@ -53,4 +53,7 @@ def graph_hash(model) -> str:
         a = np.ascontiguousarray(np.asarray(arr, dtype=dtype))
         h.update(str(a.size).encode() + b"\0")
         h.update(a.tobytes())
+    if model.faults is not None:  # a network of faults: its catalogs have fault columns
+        h.update(json.dumps([_label_key(f) for f in model.faults]).encode())
+        h.update(np.ascontiguousarray(model.fault_number, dtype="<i8").tobytes())
     return h.hexdigest()

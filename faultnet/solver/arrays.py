@@ -290,6 +290,7 @@ class KernelArrays:
             oms,
             2.0 * model.alpha_values / oms,
             self.nbr,
+            model.fault_number,
         )
         self.ctrl[CTRL_DT] = dt
         self.kernel = getattr(_kernels(), self.options.entry(model))

@@ -11,6 +11,7 @@ from faultnet.model.state import State
 from faultnet.solver._kernels.layout import (
     CAT_BLOCKS,
     CAT_DURATION,
+    CAT_FAULTS,
     CAT_HYPOCENTER,
     CAT_S,
     CAT_STEPS,
@@ -23,6 +24,8 @@ from faultnet.solver._kernels.layout import (
 __all__ = ["SimulationResult", "events_frame", "slips_frame", "traces_frame"]
 
 EVENT_COLUMNS = ["event", "t", "duration", "n_blocks", "S", "M", "hypocenter", "n_steps"]
+#: the columns a network of faults adds (a graph whose blocks carry ``fault``)
+FAULT_COLUMNS = ["fault", "n_faults"]
 
 
 def node_labels(nodes, idx):
@@ -37,24 +40,29 @@ def node_labels(nodes, idx):
     return labels[idx]
 
 
-def events_frame(ev0, cat_f, cat_i, nodes):
-    """One row per event: event, t, duration, n_blocks, S, M, hypocenter, n_steps."""
+def events_frame(ev0, cat_f, cat_i, nodes, faults=None, fault_number=None):
+    """One row per event: event, t, duration, n_blocks, S, M, hypocenter, n_steps; on a network
+    of faults (``faults``: the labels, ``fault_number``: each block's index into them) also
+    fault (the hypocentre's) and n_faults (the faults among the blocks that slipped)."""
     n = cat_f.shape[0]
     S = cat_f[:, CAT_S]
     with np.errstate(divide="ignore"):
         M = np.log(S)
-    return pd.DataFrame(
-        {
-            "event": np.arange(ev0, ev0 + n, dtype=np.int64),
-            "t": cat_f[:, CAT_T],
-            "duration": cat_f[:, CAT_DURATION],
-            "n_blocks": cat_i[:, CAT_BLOCKS],
-            "S": S,
-            "M": M,
-            "hypocenter": node_labels(nodes, cat_i[:, CAT_HYPOCENTER]),
-            "n_steps": cat_i[:, CAT_STEPS],
-        }
-    )
+    hypocenter = cat_i[:, CAT_HYPOCENTER]
+    columns = {
+        "event": np.arange(ev0, ev0 + n, dtype=np.int64),
+        "t": cat_f[:, CAT_T],
+        "duration": cat_f[:, CAT_DURATION],
+        "n_blocks": cat_i[:, CAT_BLOCKS],
+        "S": S,
+        "M": M,
+        "hypocenter": node_labels(nodes, hypocenter),
+        "n_steps": cat_i[:, CAT_STEPS],
+    }
+    if faults is not None:
+        columns["fault"] = node_labels(faults, fault_number[hypocenter])
+        columns["n_faults"] = cat_i[:, CAT_FAULTS]
+    return pd.DataFrame(columns)
 
 
 def slips_frame(event, node, slip, nodes):

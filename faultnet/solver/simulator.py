@@ -250,7 +250,8 @@ class Simulator:
             n_steps=steps,
             block_steps=block_steps,
         )
-        events = events_frame(ev0, cat_f, cat_i, self._model.nodes)
+        model = self._model
+        events = events_frame(ev0, cat_f, cat_i, model.nodes, model.faults, model.fault_number)
         return wrap_result(self._model, arr, self.state, self._dt, events, md, record_profiles)
 
     @property

@@ -41,8 +41,12 @@ __all__ = [
 #: - ``nbr`` (uint64[N, width]): each block's neighbours in CSR order, padded with the ghost
 #:   row of ``W`` (index 2 N, always 0) to the largest degree; width 0 on a graph with hubs
 #:   (:func:`padded_neighbours`).  Unsigned, so that Numba indexes ``W`` with them without
-#:   its negative-index wrap-around (2-6% more events/s on W1 and W6).
-Graph = namedtuple("Graph", ["indptr", "indices", "kval", "diag", "oms", "cfr", "k_uniform", "nbr"])
+#:   its negative-index wrap-around (2-6% more events/s on W1 and W6);
+#: - ``fault`` (int64[N]): each block's fault, numbered from 0 (all 0 on a graph without
+#:   fault labels), so that an event counts the faults it ruptured.
+Graph = namedtuple(
+    "Graph", ["indptr", "indices", "kval", "diag", "oms", "cfr", "k_uniform", "nbr", "fault"]
+)
 
 #: The model's state between events (:mod:`.carlson_langer.tree`).
 #:
@@ -126,11 +130,12 @@ def padded_neighbours(indptr, indices):
     return nbr
 
 
-def graph_bundle(indptr, indices, kval, diag, oms, cfr, nbr=None):
+def graph_bundle(indptr, indices, kval, diag, oms, cfr, nbr=None, fault=None):
     """The :data:`Graph` of CSR arrays and per-block parameters (float64 ``kval``, ``diag``, ...).
 
     ``nbr``: the graph's :func:`padded_neighbours`, built here if not given (it depends on the
     topology only, so a simulation builds it once for every set of parameters).
+    ``fault``: each block's fault number (None: every block on fault 0).
     ``k_uniform`` is the springs' constant where all are equal and positive and the neighbour
     table holds every neighbour, else 0.0.
     """
@@ -150,6 +155,7 @@ def graph_bundle(indptr, indices, kval, diag, oms, cfr, nbr=None):
         cfr=np.asarray(cfr, dtype=np.float64),
         k_uniform=float(kval[0]) if uniform else 0.0,
         nbr=nbr,
+        fault=np.zeros(indptr.shape[0] - 1, np.int64) if fault is None else fault,
     )
 
 

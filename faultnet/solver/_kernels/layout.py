@@ -17,6 +17,7 @@ blocks: the event, the time, their positions ``[TRACE_X, TRACE_X + m)`` and velo
 __all__ = [
     "CAT_BLOCKS",
     "CAT_DURATION",
+    "CAT_FAULTS",
     "CAT_F_SIZE",
     "CAT_HYPOCENTER",
     "CAT_I_SIZE",
@@ -44,6 +45,7 @@ __all__ = [
     "CTRL_SOLO_CACHE",
     "OUT_BLOCKS",
     "OUT_DURATION",
+    "OUT_FAULTS",
     "OUT_HYPOCENTER",
     "OUT_SIZE",
     "OUT_SLIP",
@@ -94,7 +96,8 @@ OUT_SLIP = 2  #: its total slip S
 OUT_BLOCKS = 3  #: the blocks that slipped
 OUT_HYPOCENTER = 4  #: block index of the last event's hypocentre
 OUT_STEPS = 5  #: integration steps it took
-OUT_SIZE = 6
+OUT_FAULTS = 6  #: the faults among the blocks that slipped
+OUT_SIZE = 7
 
 SOLO_SLIP = 0  #: a parameter class's solo slip (NaN until computed)
 SOLO_DURATION = 1  #: its duration
@@ -108,7 +111,8 @@ CAT_F_SIZE = 3
 CAT_BLOCKS = 0  #: ``cat_i`` column: the blocks that slipped
 CAT_HYPOCENTER = 1  #: ``cat_i`` column: block index of the hypocentre
 CAT_STEPS = 2  #: ``cat_i`` column: integration steps the event took
-CAT_I_SIZE = 3
+CAT_FAULTS = 3  #: ``cat_i`` column: the faults among the blocks that slipped
+CAT_I_SIZE = 4
 
 TRACE_EVENT = 0  #: ``trace_buf`` column: the event's number
 TRACE_TIME = 1  #: ``trace_buf`` column: time since the event's start

@@ -10,7 +10,8 @@ return value is a status code (``STATUS_*``); the counters in ``work.cnt`` are n
 :mod:`faultnet.solver._kernels.layout` (``CNT_*``).
 
 Arguments of the kernels here: ``ev`` (an event's number), ``hyp`` (its hypocentre), ``w`` (the
-plate position), ``ntouch`` (the length of the touched list), ``integrate`` (the event's
+plate position), ``nact`` and ``ntouch`` (the lengths of the active and the touched lists),
+``integrate`` (the event's
 integration, :mod:`.slip`); of the entry kernels: ``n_req`` (events requested), ``ev0`` (the first
 one's number), the bundles (:mod:`~faultnet.solver._kernels.bundles`)
 ``state`` (z, frame, failure keys and
@@ -39,11 +40,22 @@ from faultnet.solver._kernels.carlson_langer.slip import (
 from faultnet.solver._kernels.carlson_langer.solo import solo_apply, solo_end, solo_free, solo_start
 from faultnet.solver._kernels.carlson_langer.stepping import activate, join_scan, touch
 from faultnet.solver._kernels.carlson_langer.tree import build_keys_and_tree, tree_update
-from faultnet.solver._kernels.carlson_langer.work import FLAG, P2, STUCK, TOUCH, UNTOUCHED, D, P
+from faultnet.solver._kernels.carlson_langer.work import (
+    ACTIVE,
+    FLAG,
+    FSEEN,
+    P2,
+    STUCK,
+    TOUCH,
+    UNTOUCHED,
+    D,
+    P,
+)
 from faultnet.solver._kernels.jit import entry, inline_kernel, kernel
 from faultnet.solver._kernels.layout import (
     CAT_BLOCKS,
     CAT_DURATION,
+    CAT_FAULTS,
     CAT_HYPOCENTER,
     CAT_S,
     CAT_STEPS,
@@ -55,6 +67,7 @@ from faultnet.solver._kernels.layout import (
     CTRL_SOLO_CACHE,
     OUT_BLOCKS,
     OUT_DURATION,
+    OUT_FAULTS,
     OUT_HYPOCENTER,
     OUT_SLIP,
     OUT_STEPS,
@@ -84,12 +97,15 @@ RECENTRE_AT = 4.0
 
 @kernel
 def _finish_event(ntouch, ev, state, graph, work, records):
-    """Apply the slips, refresh keys of touched blocks, reset the work rows."""
+    """Apply the slips, refresh keys of touched blocks, reset the work rows.
+
+    Returns the total slip, the blocks that slipped and the faults they are on.
+    """
     z, keys, tree = state.z, state.keys, state.tree
     W, IW, cnt = work.W, work.IW, work.cnt
     slip_event, slip_node, slip_val = records.slip_event, records.slip_node, records.slip_val
     total = 0.0
-    nblk = 0
+    nblk = nflt = 0
     rec = slip_val.shape[0] > 0
     row = cnt[CNT_SLIP_ROWS]
     for q in range(ntouch):
@@ -98,6 +114,10 @@ def _finish_event(ntouch, ev, state, graph, work, records):
             s = W[j, D]
             total += s
             nblk += 1
+            f = graph.fault[j]
+            if IW[FSEEN, f] != ev + 1:  # the fault's first block in this event
+                IW[FSEEN, f] = ev + 1
+                nflt += 1
             z[j] += s
             if rec:
                 slip_event[row] = ev
@@ -113,7 +133,7 @@ def _finish_event(ntouch, ev, state, graph, work, records):
         W[j, P] = 0.0
         W[j, P2] = 0.0
         IW[FLAG, j] = UNTOUCHED
-    return total, nblk
+    return total, nblk, nflt
 
 
 @inline_kernel
@@ -151,10 +171,13 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
             out[OUT_DURATION] = solo[c, SOLO_DURATION]
             out[OUT_SLIP] = solo[c, SOLO_SLIP]
             out[OUT_BLOCKS] = 1
+            out[OUT_FAULTS] = 1
             out[OUT_STEPS] = solo[c, SOLO_STEPS]
             return STATUS_OK
         else:
             nact, ntouch = _start(hyp, w, state, graph, work)
+            if not at_threshold:  # a given state: every block above the threshold slips now
+                nact, ntouch = _start_above(nact, ntouch, w, state, graph, work)
             if records.trace_nodes.shape[0] > 0:
                 record_trace(ev, 0.0, state, work, records)
             run_w = w
@@ -169,10 +192,11 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
         solo[c, SOLO_DURATION] = t
         solo[c, SOLO_STEPS] = nsteps
         computing = False
-    total, nblk = _finish_event(ntouch, ev, state, graph, work, records)
+    total, nblk, nflt = _finish_event(ntouch, ev, state, graph, work, records)
     out[OUT_DURATION] = t
     out[OUT_SLIP] = total
     out[OUT_BLOCKS] = nblk
+    out[OUT_FAULTS] = nflt
     out[OUT_STEPS] = nsteps
     work.cnt[CNT_STEPS] += nsteps
     return STATUS_OK
@@ -186,6 +210,23 @@ def _start(hyp, w, state, graph, work):
     zero = hyp - hyp  # int64, not a literal: one compiled signature per kernel
     ntouch = touch(hyp, w, keys, W, IW, zero)
     nact, ntouch = activate(hyp, zero, ntouch, w, keys, graph, work)
+    return join_scan(nact, ntouch, w, keys, graph, work)
+
+
+@kernel
+def _start_above(nact, ntouch, w, state, graph, work):
+    """Activate every other block whose force is 1 or more at plate position ``w``.
+
+    Only a given state (``x0``) holds such blocks: loading stops at the first block to
+    reach the threshold.  They all slip from the event's start, as the equations say, also
+    where no spring links them to the hypocentre.  One pass over the blocks.
+    """
+    keys, IW = state.keys, work.IW
+    for j in range(keys.shape[0]):
+        if keys[j] <= w and IW[FLAG, j] != ACTIVE:
+            if IW[FLAG, j] == UNTOUCHED:
+                ntouch = touch(j, w, keys, work.W, IW, ntouch)
+            nact, ntouch = activate(j, nact, ntouch, w, keys, graph, work)
     return join_scan(nact, ntouch, w, keys, graph, work)
 
 
@@ -229,6 +270,7 @@ def _run_events(integrate, n_req, ev0, state, graph, ctrl, cls, solo, work, reco
         cat_i[e, CAT_BLOCKS] = int(out[OUT_BLOCKS])
         cat_i[e, CAT_HYPOCENTER] = int(out[OUT_HYPOCENTER])
         cat_i[e, CAT_STEPS] = int(out[OUT_STEPS])
+        cat_i[e, CAT_FAULTS] = int(out[OUT_FAULTS])
         if profiles.shape[0] > 0:
             for i in range(n):
                 profiles[e, i] = scal[SCAL_OFFSET] + z[i]

@@ -38,6 +38,7 @@ __all__ = [
     "DN",
     "F0",
     "FLAG",
+    "FSEEN",
     "FRONTIER",
     "JOINING",
     "LOC_MOVED",
@@ -72,9 +73,10 @@ D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = (np.int64(c) for c in range(12))
 N_WORK = 12
 # int work rows: the block flags, the active list and each block's position in it, the
 # touched list, the tags of the stuck blocks a step's scan has evaluated (fresh ids from
-# :func:`new_id`), the crossings a step's scan listed
-FLAG, ACT, TOUCH, APOS, MARK, CAND = range(6)
-N_IWORK = 6
+# :func:`new_id`), the crossings a step's scan listed; and by fault number, the event (plus 1)
+# that last counted the fault
+FLAG, ACT, TOUCH, APOS, MARK, CAND, FSEEN = range(7)
+N_IWORK = 7
 # block flags during an event
 UNTOUCHED, ACTIVE, STUCK, FRONTIER = 0, 1, 2, 3
 # interpolated crossings (:mod:`.interp`), within one step: a stuck block that joins inside

@@ -1,0 +1,86 @@
+"""Event columns of a network of faults: the hypocentre's fault and the faults that slipped.
+
+``n_faults`` is counted in the kernel; the reference here counts it from the per-block slips
+of the same run (``record_slips=True``), event by event.
+"""
+
+import networkx as nx
+import numpy as np
+import pandas as pd
+import pytest
+
+import faultnet
+from faultnet.exceptions import InvalidParameterError
+
+
+def _faults_from_slips(result, graph):
+    fault = {node: data["fault"] for node, data in graph.nodes(data=True)}
+    slips = result.slips
+    return slips.assign(fault=slips["node"].map(fault)).groupby("event")["fault"].nunique()
+
+
+@pytest.mark.parametrize("crossings", ["exact", "interpolated"])
+@pytest.mark.parametrize("k_coupling", [0.5, 16.0])
+def test_n_faults_counts_the_faults_among_the_slipped_blocks(crossings, k_coupling):
+    graph = faultnet.graphs.parallel_faults(3, 20, k_coupling=k_coupling)
+    model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
+    options = faultnet.RunOptions(crossings=crossings)
+    res = faultnet.simulate(model, 2000, rng=3, options=options, record_slips=True, progress=False)
+    ev = res.events.set_index("event")
+    expected = _faults_from_slips(res, graph).reindex(ev.index)
+    np.testing.assert_array_equal(ev["n_faults"].to_numpy(), expected.to_numpy())
+    assert ev["n_faults"].min() == 1 and ev["n_faults"].max() <= 3
+    if k_coupling == 16.0:
+        assert (ev["n_faults"] > 1).sum() > 20  # strongly coupled: many ruptures jump
+    hypo_fault = ev["hypocenter"].map(lambda node: graph.nodes[node]["fault"])
+    assert ev["fault"].tolist() == hypo_fault.tolist()
+
+
+def test_solo_slips_count_one_fault_and_the_columns_match_a_run_without_the_cache():
+    graph = faultnet.graphs.step_over(30, overlap=5, gap=1.0, k_coupling=2.0)
+    model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
+    fast = faultnet.Simulator(model, rng=1).advance(1500, progress=False)
+    assert fast.metadata["solo_events"] > 0
+    solo = fast.events[fast.events["n_blocks"] == 1]
+    assert len(solo) and (solo["n_faults"] == 1).all()
+    slow = faultnet.Simulator(model, rng=1, solo_cache=False).advance(1500, progress=False)
+    assert slow.metadata["solo_events"] == 0
+    assert (slow.events[slow.events["n_blocks"] == 1]["n_faults"] == 1).all()
+
+
+def test_graphs_without_faults_have_no_fault_columns():
+    res = faultnet.simulate(faultnet.CarlsonLanger(faultnet.graphs.ring(20)), 50, rng=1,
+                            progress=False)  # fmt: skip
+    assert "fault" not in res.events and "n_faults" not in res.events
+    assert list(res.events.columns) == [
+        "event", "t", "duration", "n_blocks", "S", "M", "hypocenter", "n_steps"
+    ]  # fmt: skip
+
+
+def test_fault_labels_must_be_on_every_block_and_of_a_kept_type():
+    g = nx.path_graph(4)
+    nx.set_node_attributes(g, {0: "A", 1: "A"}, "fault")
+    with pytest.raises(InvalidParameterError, match="set on 2 of 4 blocks .*not on 2"):
+        faultnet.CarlsonLanger(g)
+    nx.set_node_attributes(g, {2: "B", 3: 1.5}, "fault")
+    with pytest.raises(InvalidParameterError, match=r"fault of node 3 must be .*got 1.5"):
+        faultnet.CarlsonLanger(g)
+
+
+def test_fault_columns_survive_a_catalog_file_and_a_long_run(tmp_path):
+    graph = faultnet.graphs.parallel_faults(2, 15, k_coupling=4.0, names=[("A", 1), ("B", 2)])
+    model = faultnet.CarlsonLanger(graph)
+    res = faultnet.simulate(model, 400, rng=2, progress=False)
+    assert res.events["fault"].iloc[0] in {("A", 1), ("B", 2)}
+    out = tmp_path / "faults.parquet"
+    faultnet.simulate_to_parquet(model, 400, out, rng=2, chunk_events=150, progress=False)
+    pd.testing.assert_frame_equal(faultnet.read_catalog(out).events, res.events)
+
+
+def test_the_faults_change_the_graph_hash():
+    from faultnet.model.identity import graph_hash
+
+    plain = faultnet.graphs.chain(6)
+    labelled = plain.copy()
+    nx.set_node_attributes(labelled, {i: "A" if i < 3 else "B" for i in range(6)}, "fault")
+    assert graph_hash(faultnet.CarlsonLanger(plain)) != graph_hash(faultnet.CarlsonLanger(labelled))
