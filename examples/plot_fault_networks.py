@@ -51,7 +51,7 @@ for k_coupling in COUPLINGS:
     model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
     events = faultnet.simulate(model, N_EVENTS, rng=1, progress=False).events
     steady = events[events["t"] > TRANSIENT_T]
-    rows.append(steady.assign(k_coupling=k_coupling)[["M", "fault", "n_faults", "k_coupling"]])
+    rows.append(steady.assign(k_coupling=k_coupling)[["t", "M", "fault", "n_faults", "k_coupling"]])
 table = pd.concat(rows)
 summary = table.groupby("k_coupling")["n_faults"].agg(
     events="size", both_faults=lambda n: float(np.mean(n > 1))
@@ -69,12 +69,17 @@ print(table.groupby(["k_coupling", "fault"]).size().unstack())  # where the even
 bins = np.linspace(table["M"].min(), table["M"].max(), 16)
 fig, ax = plt.subplots(figsize=(6.4, 4.2), layout="constrained")
 for k_coupling, group in table.groupby("k_coupling"):
-    which = pd.cut(group["M"], bins, include_lowest=True)
-    frac = group.groupby(which, observed=True)["n_faults"].agg(lambda n: float(np.mean(n > 1)))
-    centres = [interval.mid for interval in frac.index]
-    ax.plot(centres, frac.to_numpy(), "o-", label=f"k_coupling = {k_coupling:g}")
+    frac = faultnet.seismicity.multi_fault_fraction(group, bins=bins)
+    ax.errorbar(frac["M"], frac["fraction"], frac["error"], fmt="o-", capsize=2,
+                label=f"k_coupling = {k_coupling:g}")  # fmt: skip
 ax.set_xlabel("M = ln S")
 ax.set_ylabel("fraction of events on both faults")
 ax.set_ylim(-0.03, 1.03)
 ax.legend()
+
+# %%
+# Each fault's own magnitude-frequency law: the b-values of the events that
+# start on each fault, above one common threshold.
+
+print(faultnet.seismicity.b_per_fault(table[table["k_coupling"] == 2.0]))
 plt.show()
