@@ -1,11 +1,11 @@
 """
-Shared helpers of the example gallery
-=====================================
+Shared plumbing of the example gallery
+======================================
 
 Not an example.  sphinx-gallery executes only ``plot_*.py``; to keep this
 module out of the gallery pages too, set ``"ignore_pattern": r"/_"`` in
 ``sphinx_gallery_conf``.  It is imported by the figure scripts (their folder
-is on ``sys.path`` when they run) and provides:
+is on ``sys.path`` when they run) and holds what is not faultnet itself:
 
 * run mode: :func:`fast_mode` (``FAULTNET_FAST=1`` or ``--fast``) versus the
   paper-scale default;
@@ -13,14 +13,18 @@ is on ``sys.path`` when they run) and provides:
   ``examples/figures``) and :func:`data_dir` (``FAULTNET_DATA``, default ``data/``);
 * :class:`Table`: the "quantity | paper | faultnet" tables every script prints;
 * stored paper-scale results: :func:`load_or_run` keeps the output of an
-  expensive ``builder(**params)`` in ``data/NAME.npz`` together with its
-  provenance (faultnet version, parameters, seed, command, wall time, events,
-  transient) and reloads it when the parameters match;
-* the registry :data:`ENTRIES` of the magnitude-distribution runs of
-  Figs. 8-10 (paper-scale and fast parameters side by side) and their builder
-  :func:`run_magnitudes`.
+  expensive ``builder(**params)`` (a function of the page that calls it) in
+  ``data/NAME.npz`` together with its provenance (faultnet version,
+  parameters, seed, command, wall time, events, transient) and reloads it when
+  the parameters match;
+* the parameters :data:`ENTRIES` of the magnitude-distribution runs of
+  Figs. 8-10 (paper-scale and fast side by side) and :func:`magnitudes`, which
+  runs or reloads one of them with the page's builder.  The magnitudes are
+  stored as a histogram on the grid :data:`M_EDGES` (bins of 0.05) and handed
+  back as the bin centres, in fast mode too.
 
-Recompute stored histograms (about 15 minutes for all at paper scale on one core)::
+Recompute stored histograms (about 15 minutes for all at paper scale on one
+core): the files are removed and the pages that make them run in paper mode::
 
     python examples/_paper_data.py --list
     python examples/_paper_data.py --regenerate fig08_ring_alpha2 fig08_ring_alpha1
@@ -34,6 +38,7 @@ import argparse
 import json
 import os
 import platform
+import runpy
 import sys
 import time
 from pathlib import Path
@@ -43,7 +48,6 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 
-K, SIGMA = 16.0, 0.01  # the paper's spring constant and friction drop (Sects. 3-6)
 P_C_SQUARE = 0.592746  # faultnet.graphs.percolation_threshold("square"); paper: 0.5927
 P_C_TRIANGULAR = 0.5
 
@@ -58,10 +62,6 @@ def fast_mode() -> bool:
     """True for ``FAULTNET_FAST=1`` (or ``true``/``yes``) or ``--fast`` on the command line."""
     env = os.environ.get("FAULTNET_FAST", "").strip().lower()
     return env in ("1", "true", "yes", "on") or "--fast" in sys.argv[1:]
-
-
-#: display bin width of P(M) (a multiple of the fine width; wider for the sparse fast runs)
-DISPLAY_WIDTH = 0.5 if fast_mode() else 0.25
 
 
 def mode_label(fast: bool) -> str:
@@ -81,10 +81,10 @@ def data_dir() -> Path:
 
 
 def save_figure(fig, name: str) -> Path:
-    """Save ``fig`` as ``<figures_dir>/<name>.png`` and say where."""
+    """Save ``fig`` as ``<figures_dir>/<name>.png`` and print the file's name."""
     path = figures_dir() / f"{name}.png"
     fig.savefig(path, dpi=110)
-    print(f"figure saved to {path}")
+    print(f"figure saved as {path.name}")
     return path
 
 
@@ -209,7 +209,31 @@ def _git_commit(where: Path):
     return head + ("+dirty" if dirty else "")
 
 
-def load_or_run(name: str, builder, params: dict, *, store: bool = True, verbose: bool = True):
+def _command() -> str:
+    """The running command line; absolute paths relative to the checkout (else their name)."""
+
+    def short(arg):
+        path = Path(arg)
+        if not path.is_absolute():
+            return arg
+        try:
+            return str(path.relative_to(REPO))
+        except ValueError:
+            return path.name
+
+    return " ".join([Path(sys.executable).name, *map(short, sys.argv)])
+
+
+def load_or_run(
+    name: str,
+    builder,
+    params: dict,
+    *,
+    store: bool = True,
+    verbose: bool = True,
+    encode=None,
+    decode=None,
+):
     """Reload ``<data_dir>/<name>.npz`` if it holds ``builder(**params)``, else compute it.
 
     The file is used only when its recorded builder name and parameters equal
@@ -217,39 +241,45 @@ def load_or_run(name: str, builder, params: dict, *, store: bool = True, verbose
     builder runs and, with ``store=True``, the file is (re)written with its
     provenance: faultnet version, parameters, command line, wall time, date,
     Python/numpy/numba versions, plus whatever the builder reports (events,
-    transient, seed).
+    transient, seed).  ``encode`` turns the builder's output into the arrays
+    that are stored and ``decode`` turns stored arrays back into what the page
+    uses (both default to no change); a computed result is encoded and decoded
+    too, so that a page sees the same numbers either way.  Messages name the
+    file (``NAME.npz``), never its folder.
 
     Returns
     -------
     result : dict
-        The builder's output (numpy arrays and Python scalars).
+        The decoded output (numpy arrays and Python scalars).
     provenance : dict
-        With ``"source"``: ``"loaded <path>"`` or ``"computed"``.
+        With ``"source"``: ``"loaded NAME.npz"`` or ``"computed"``.
     """
+    encode = encode or (lambda result: result)
+    decode = decode or (lambda result: result)
     path = data_dir() / f"{name}.npz"
     key = _params_key(params)
     if path.exists():
         try:
             result, prov = load_result(path)
         except (OSError, ValueError, KeyError) as exc:
-            print(f"[{name}] could not read {path} ({exc}); recomputing")
+            print(f"[{name}] could not read {path.name} ({type(exc).__name__}); recomputing")
         else:
             if prov.get("builder") == builder.__name__ and _params_key(prov.get("params")) == key:
-                prov["source"] = f"loaded {path}"
+                prov["source"] = f"loaded {path.name}"
                 if verbose:
                     print(
-                        f"[{name}] loaded stored result {path} "
+                        f"[{name}] loaded stored result {path.name} "
                         f"(computed {prov.get('date')}, faultnet {prov.get('faultnet_version')}, "
                         f"wall {prov.get('wall_time_s', float('nan')):.0f} s)"
                     )
-                return result, prov
-            print(f"[{name}] {path} holds other parameters; recomputing")
+                return decode(result), prov
+            print(f"[{name}] {path.name} holds other parameters; recomputing")
     if verbose:
         print(f"[{name}] computing {builder.__name__}({key}) ...", flush=True)
     import faultnet
 
     t0 = time.perf_counter()
-    result = builder(**params)
+    result = encode(builder(**params))
     wall = time.perf_counter() - t0
     prov = {
         "name": name,
@@ -257,7 +287,7 @@ def load_or_run(name: str, builder, params: dict, *, store: bool = True, verbose
         "params": params,
         "faultnet_version": faultnet.__version__,
         "git_commit": _git_commit(Path(faultnet.__file__).parent),
-        "command": " ".join([Path(sys.executable).name, *sys.argv]),
+        "command": _command(),
         "wall_time_s": wall,
         "date": time.strftime("%Y-%m-%d %H:%M:%S %z"),
         "python": platform.python_version(),
@@ -276,148 +306,59 @@ def load_or_run(name: str, builder, params: dict, *, store: bool = True, verbose
     if store:
         save_result(path, result, prov)
         if verbose:
-            print(f"[{name}] stored {path} ({wall:.1f} s)")
+            print(f"[{name}] stored {path.name} ({wall:.1f} s)")
     prov["source"] = "computed"
+    return decode(result), prov
+
+
+def run_entry(name: str, builder, entries: dict, fast: bool, *, encode=None, decode=None):
+    """``builder(**params)`` of entry ``name``: computed in fast mode, stored/reloaded otherwise.
+
+    ``entries[name]`` holds the ``"paper"`` and ``"fast"`` parameters.  Fast mode
+    stores nothing; its result goes through ``encode`` and ``decode`` like a
+    stored one.
+    """
+    if not fast:
+        return load_or_run(name, builder, entries[name]["paper"], encode=encode, decode=decode)
+    params = entries[name]["fast"]
+    t0 = time.perf_counter()
+    result = builder(**params)
+    if encode is not None:
+        result = encode(result)
+    if decode is not None:
+        result = decode(result)
+    prov = {"source": f"computed (fast, {time.perf_counter() - t0:.1f} s)", "params": params}
     return result, prov
-
-
-# --------------------------------------------------------------------------- irregularity runs
-
-
-def run_with_irregularity(model, t_end, seed, keep_profiles=None, chunk=2000):
-    """Run until plate time ``t_end``; the irregularity Delta (Eq. 13) after every event.
-
-    Profiles are recorded chunk by chunk and reduced to Delta
-    (``faultnet.stats.irregularity``) so that long runs on large rings stay
-    small in memory; the profiles of events with ``t`` inside ``keep_profiles``
-    = (t0, t1) are kept.  Initial state: x uniform in [0, 0.01) drawn by
-    ``numpy.random.default_rng(seed)``, plate at u = 0.
-
-    Returns
-    -------
-    events : pandas.DataFrame
-        ``result.events`` plus ``Delta`` (after the event) and ``Delta_before``.
-    profiles : numpy.ndarray or None
-        Rows of the kept events (same order as ``events[kept]``).
-    kept : numpy.ndarray of bool
-    """
-    import pandas as pd
-
-    import faultnet
-
-    parts, profs = [], []
-    state = np.random.default_rng(seed).uniform(0.0, 0.01, model.n)
-    delta_prev = faultnet.irregularity(state, model)
-    while True:
-        res = faultnet.simulate(model, chunk, x0=state, progress=False, record_profiles=True)
-        state = res.state
-        ev = res.events.copy()
-        delta = faultnet.irregularity(res)
-        ev["Delta"] = delta
-        ev["Delta_before"] = np.concatenate([[delta_prev], delta[:-1]])
-        delta_prev = float(delta[-1])
-        if keep_profiles is not None:
-            inside = (ev["t"] >= keep_profiles[0]) & (ev["t"] <= keep_profiles[1])
-            profs.append(res.profiles[inside.to_numpy()])
-        parts.append(ev)
-        if ev["t"].iloc[-1] >= t_end:
-            break
-    events = pd.concat(parts, ignore_index=True)
-    events = events[events["t"] <= t_end].reset_index(drop=True)
-    kept = None
-    profiles = None
-    if keep_profiles is not None:
-        kept = ((events["t"] >= keep_profiles[0]) & (events["t"] <= keep_profiles[1])).to_numpy()
-        profiles = np.concatenate(profs)[: int(kept.sum())]
-    return events, profiles, kept
-
-
-def delta_summary(events, s_large):
-    """How Delta changes in small (S <= s_large) and large (S > s_large) events.
-
-    Returns a dict: counts, mean change of Delta per small / large event, the
-    fraction of small events that lower Delta and of large events that raise
-    it, and the mean Delta just before a large event relative to the mean
-    Delta before all events (< 1: large slips start on flatter profiles).
-    """
-    change = (events["Delta"] - events["Delta_before"]).to_numpy()
-    large = (events["S"] > s_large).to_numpy()
-    before = events["Delta_before"].to_numpy()
-    after = events["Delta"].to_numpy()
-    idx = np.flatnonzero(large)
-    # net change over each run of small slips between two large slips
-    phases = np.array(
-        [before[j] - after[i] for i, j in zip(idx[:-1], idx[1:], strict=True) if j > i + 1]
-    )
-    return {
-        "n_phases": int(phases.size),
-        "frac_phases_lower": float((phases < 0).mean()) if phases.size else float("nan"),
-        "mean_phase_change": float(phases.mean()) if phases.size else float("nan"),
-        "n_small": int((~large).sum()),
-        "n_large": int(large.sum()),
-        "mean_change_small": float(change[~large].mean()) if (~large).any() else float("nan"),
-        "mean_change_large": float(change[large].mean()) if large.any() else float("nan"),
-        "frac_small_lower": float((change[~large] < 0).mean()) if (~large).any() else float("nan"),
-        "frac_large_raise": float((change[large] > 0).mean()) if large.any() else float("nan"),
-        "before_large_rel": float(before[large].mean() / before.mean())
-        if large.any()
-        else float("nan"),
-    }
-
-
-def add_delta_rows(table, summary, s_large, where=""):
-    """The Delta rows shared by Figs. 6 and 7."""
-    table.add(
-        f"{where}mean change of Delta per small slip (S <= {s_large:g})",
-        "< 0 (decreases)",
-        f"{summary['mean_change_small']:+.3e}",
-        f"{summary['frac_small_lower']:.0%} of {summary['n_small']} small slips lower it",
-    )
-    table.add(
-        f"{where}net change of Delta between large slips",
-        "< 0 (decreases)",
-        f"{summary['mean_phase_change']:+.3e}",
-        f"{summary['frac_phases_lower']:.0%} of {summary['n_phases']} phases end lower",
-    )
-    table.add(
-        f"{where}mean change of Delta per large slip (S > {s_large:g})",
-        "> 0 (jumps up)",
-        f"{summary['mean_change_large']:+.3e}",
-        f"{summary['frac_large_raise']:.0%} of {summary['n_large']} large slips raise it",
-    )
-    table.add(
-        f"{where}Delta before large slips / mean Delta",
-        "< 1 (flatter profile)",
-        f"{summary['before_large_rel']:.3f}",
-    )
 
 
 # --------------------------------------------------------------------------- magnitude runs
 
 
-def build_graph(spec: dict):
-    """A graph from a JSON-able description (ring, square, triangular, percolation)."""
-    import faultnet.graphs.builders as G
+def encode_magnitudes(result: dict) -> dict:
+    """The stored form of a magnitude run: ``result["M"]`` as a histogram on :data:`M_EDGES`.
 
-    kind = spec["kind"]
-    if kind == "ring":
-        return G.ring(spec["n"])
-    if kind == "square":
-        return G.square_lattice(spec["rows"], spec["cols"], periodic=spec.get("periodic", False))
-    if kind == "triangular":
-        return G.triangular_lattice(
-            spec["rows"], spec["cols"], periodic=spec.get("periodic", False)
-        )
-    if kind == "percolation":
-        parent = build_graph({**spec, "kind": spec["lattice"]})
-        return G.site_percolation(
-            parent,
-            spec["p"],
-            rng=spec["seed"],
-            keep=spec["keep"],
-            prune_isolated=spec.get("prune_isolated", False),
-        )
-    raise ValueError(f"unknown graph kind {kind!r}")
+    Magnitudes outside the grid are counted in ``underflow`` and ``overflow``.
+    """
+    out = dict(result)
+    M = np.asarray(out.pop("M"), dtype=np.float64)
+    out["M_edges"] = M_EDGES
+    out["counts"] = np.histogram(M, bins=M_EDGES)[0].astype(np.int64)
+    out["underflow"] = int(np.sum(M < M_EDGES[0]))
+    out["overflow"] = int(np.sum(M >= M_EDGES[-1]))
+    return out
+
+
+def decode_magnitudes(stored: dict) -> dict:
+    """A stored magnitude run with ``"M"``: the centre of each event's bin (bins of 0.05).
+
+    Fits on windows that are unions of these bins are those of the raw
+    magnitudes (least squares exactly; Aki's MLE to O(bin width^2) = 0.0025).
+    """
+    out = dict(stored)
+    edges = np.asarray(out["M_edges"], dtype=np.float64)
+    centres = 0.5 * (edges[:-1] + edges[1:])
+    out["M"] = np.repeat(centres, np.asarray(out["counts"], dtype=np.int64))
+    return out
 
 
 def graph_text(spec: dict) -> str:
@@ -434,144 +375,6 @@ def graph_text(spec: dict) -> str:
         f"site percolation p = {spec['p']:.4g} on a {spec['rows']}x{spec['cols']} open "
         f"{spec['lattice']} lattice ({what}; occupation seed {spec['seed']})"
     )
-
-
-def run_magnitudes(graph, alpha, n_events, transient_t, seed, k=K, sigma=SIGMA, progress=None):
-    """Magnitude histogram of a long run (the builder of the Fig. 8-10 entries).
-
-    Initial state: x uniform in [0, 0.01) drawn with ``seed``, plate at u = 0.
-    Transient: chunks of events (``n_events // 200``, at least 500, at most
-    20000) are run and discarded until the plate position (time) reaches
-    ``transient_t``; then ``n_events`` events are recorded.  Returns the
-    histogram of M = ln S on :data:`M_EDGES` (counts outside go to
-    ``underflow``/``overflow``) and summary numbers.
-    """
-    import networkx as nx
-
-    import faultnet
-
-    g = build_graph(graph)
-    model = faultnet.CarlsonLanger(g, k=k, sigma=sigma, alpha=alpha)
-    chunk = int(min(20_000, max(500, n_events // 200)))
-    state = None
-    n_trans = 0
-    t_now = 0.0
-    while t_now < transient_t:
-        res = faultnet.simulate(model, chunk, x0=state, rng=seed, progress=False)
-        state = res.state
-        n_trans += len(res.events)
-        t_now = float(res.events["t"].iloc[-1])
-    res = faultnet.simulate(model, int(n_events), x0=state, rng=seed, progress=progress)
-    ev = res.events
-    M = ev["M"].to_numpy()
-    counts, _ = np.histogram(M, bins=M_EDGES)
-    t = ev["t"].to_numpy()
-    span = float(t[-1] - t[0])
-    n_isolated = sum(1 for v in g if g.degree(v) == 0)
-    return {
-        "M_edges": M_EDGES,
-        "counts": counts.astype(np.int64),
-        "underflow": int(np.sum(M < M_EDGES[0])),
-        "overflow": int(np.sum(M >= M_EDGES[-1])),
-        "n_events": int(len(ev)),
-        "n_transient_events": int(n_trans),
-        "transient_t": float(transient_t),
-        "t_start": float(t[0]),
-        "t_end": float(t[-1]),
-        "slip_rate": float(ev["S"].sum() / (model.n * span)) if span > 0 else float("nan"),
-        "M_max": float(M.max()),
-        "M_mean": float(M.mean()),
-        "largest_event_blocks": int(ev["n_blocks"].max()),
-        "n_blocks": int(model.n),
-        "n_springs": int(g.number_of_edges()),
-        "n_clusters": int(nx.number_connected_components(g)),
-        "n_isolated": int(n_isolated),
-        "seed": int(seed),
-        "alpha": float(alpha),
-        "sim_wall_time_s": float(res.metadata["wall_time_s"]),
-    }
-
-
-def samples_from_hist(result: dict) -> np.ndarray:
-    """Bin-centre pseudo-magnitudes reproducing the fine histogram (for the library fits).
-
-    The fit windows of the scripts are unions of fine bins, so least-squares
-    fits on them are exact; Aki's MLE is exact to O(bin width^2) = 0.0025.
-    """
-    edges = np.asarray(result["M_edges"], dtype=np.float64)
-    centres = 0.5 * (edges[:-1] + edges[1:])
-    return np.repeat(centres, np.asarray(result["counts"], dtype=np.int64))
-
-
-def magnitude_table(result: dict, width: float = DISPLAY_WIDTH):
-    """P(M) table (columns M, density, count, width) from a stored fine histogram."""
-    import pandas as pd
-
-    edges = np.asarray(result["M_edges"], dtype=np.float64)
-    counts = np.asarray(result["counts"], dtype=np.int64)
-    step = max(1, int(round(width / (edges[1] - edges[0]))))
-    n_coarse = len(counts) // step
-    c = counts[: n_coarse * step].reshape(n_coarse, step).sum(axis=1)
-    e = edges[: n_coarse * step + 1 : step]
-    total = counts.sum() + result.get("underflow", 0) + result.get("overflow", 0)
-    w = np.diff(e)
-    table = pd.DataFrame(
-        {"M": 0.5 * (e[:-1] + e[1:]), "density": c / (total * w), "count": c, "width": w}
-    )
-    table.attrs["n"] = int(total)
-    return table
-
-
-def fits(result: dict, window, mle_min=None, bins=20):
-    """(lsq, mle) b fits of a stored histogram; None where the data do not allow a fit."""
-    import faultnet
-
-    M = samples_from_hist(result)
-    try:
-        lsq = faultnet.fit_b_lsq(M, window[0], window[1], bins=bins)
-    except ValueError:
-        lsq = None
-    try:
-        mle = faultnet.fit_b_mle(M, m_min=window[0] if mle_min is None else mle_min)
-    except ValueError:
-        mle = None
-    return lsq, mle
-
-
-def hump(result: dict, lo: float, hi: float, width: float = DISPLAY_WIDTH):
-    """Magnitude of the highest local maximum of P(M) inside [lo, hi] (a hump or peak).
-
-    P(M) is smoothed over three bins (bin-to-bin noise would otherwise make
-    spurious maxima); a local maximum is a bin at least as high as both
-    neighbours.  NaN when P(M) has no interior maximum in the window (it only
-    rises or falls there).
-    """
-    table = magnitude_table(result, width)
-    inside = table[(table["M"] >= lo) & (table["M"] <= hi) & (table["count"] > 0)]
-    if len(inside) < 5:
-        return float("nan")
-    d = np.convolve(inside["density"].to_numpy(), np.ones(3) / 3.0, mode="same")
-    k = np.arange(2, len(d) - 2)  # the end bins of the smoothed curve are one-sided
-    peaks = k[(d[k] >= d[k - 1]) & (d[k] >= d[k + 1])]
-    if peaks.size == 0:
-        return float("nan")
-    best = peaks[np.argmax(d[peaks])]
-    return float(inside["M"].iloc[best])
-
-
-def add_peak_row(table, quantity, paper_value, result, lo, hi, note=""):
-    """A table row with the position of the P(M) maximum inside [lo, hi]."""
-    value = hump(result, lo, hi)
-    if not np.isfinite(value):
-        note = f"no interior maximum of P(M) in [{lo:g}, {hi:g}]"
-    table.add(quantity, paper_value, value, note)
-
-
-def tail_end(result: dict, q: float = 0.999) -> float:
-    """Magnitude below which a fraction q of the events lie (where P(M) has decayed)."""
-    edges = np.asarray(result["M_edges"], dtype=np.float64)
-    cum = np.cumsum(result["counts"]) / max(1, np.sum(result["counts"]))
-    return float(edges[1:][np.searchsorted(cum, q)])
 
 
 def describe_run(name: str, result: dict, prov: dict) -> str:
@@ -693,23 +496,65 @@ for _a in (2.0, 1.0, 0.25):
     )
 
 
-def magnitudes(name: str, fast: bool, store: bool = True):
-    """The histogram of entry ``name``: computed in fast mode, stored/reloaded in paper mode."""
-    if fast:
-        params = ENTRIES[name]["fast"]
-        t0 = time.perf_counter()
-        result = run_magnitudes(**params, progress=False)
-        prov = {"source": f"computed (fast, {time.perf_counter() - t0:.1f} s)", "params": params}
-        return result, prov
-    return load_or_run(name, run_magnitudes, ENTRIES[name]["paper"], store=store)
+def magnitudes(name: str, builder, fast: bool):
+    """The run of entry ``name`` of :data:`ENTRIES`: ``builder(**params)``.
+
+    ``builder`` is the page's function of ``graph`` (a description such as
+    ``{"kind": "ring", "n": 2000}``), ``alpha``, ``n_events``, ``transient_t``
+    and ``seed`` that returns the magnitudes ``"M"`` and the run's summary
+    numbers.  Fast mode computes it; paper mode reloads ``data/NAME.npz``
+    (computing and storing it when it is missing).  ``"M"`` comes back binned
+    (:func:`decode_magnitudes`).
+    """
+    return run_entry(
+        name, builder, ENTRIES, fast, encode=encode_magnitudes, decode=decode_magnitudes
+    )
 
 
 # --------------------------------------------------------------------------- command line
 
+#: the page that computes each stored entry (by the start of the entry's name)
+PAGES = {
+    "fig08_": "plot_fig08_magnitude_1d_2d.py",
+    "fig09": "plot_fig09_percolation.py",
+    "fig10": "plot_fig10_triangular_percolation.py",
+    "seis_ring_": "plot_seismicity_ring.py",
+    "seis_percolation_": "plot_seismicity_percolation.py",
+}
 
-def main(argv=None):
+
+def page_of(name: str) -> Path:
+    """The gallery script whose builder computes entry ``name``."""
+    for start, page in PAGES.items():
+        if name.startswith(start):
+            return HERE / page
+    raise KeyError(f"no page computes {name!r}")
+
+
+def regenerate(names) -> None:
+    """Remove the stored files of ``names`` and run their pages in paper mode, which
+    compute and store them again (and reload the other entries they draw)."""
+    for name in names:
+        (data_dir() / f"{name}.npz").unlink(missing_ok=True)
+    pages = list(dict.fromkeys(page_of(name) for name in names))
+    os.environ.pop("FAULTNET_FAST", None)
+    for page in pages:
+        print(f"running {page.name} in paper mode", flush=True)
+        argv = sys.argv
+        sys.argv = [page.name]
+        try:
+            runpy.run_path(str(page), run_name="__main__")
+        finally:
+            sys.argv = argv
+
+
+def main(argv=None, entries=None, description=None):
+    """``--list`` the stored entries or ``--regenerate`` them (``entries``: default
+    :data:`ENTRIES`)."""
+    entries = ENTRIES if entries is None else entries
     parser = argparse.ArgumentParser(
-        description="Recompute the stored paper-scale histograms of Figs. 8-10 (data/*.npz)."
+        description=description
+        or "Recompute the stored paper-scale histograms of Figs. 8-10 (data/*.npz)."
     )
     parser.add_argument(
         "--regenerate",
@@ -723,25 +568,21 @@ def main(argv=None):
     if args.data_dir:
         os.environ["FAULTNET_DATA"] = args.data_dir
     if args.list or args.regenerate is None:
-        for name, entry in ENTRIES.items():
+        for name, entry in entries.items():
             path = data_dir() / f"{name}.npz"
             p = entry["paper"]
             status = "stored" if path.exists() else "missing"
+            what = graph_text(p["graph"]) if "kind" in p.get("graph", {}) else ""
             print(
                 f"{name:30s} {status:8s} alpha={p['alpha']:<5g} {p['n_events']} events, "
-                f"transient t<{p['transient_t']:g}: {graph_text(p['graph'])}"
+                f"transient t<{p['transient_t']:g}: {what}"
             )
         return 0
-    names = args.regenerate or list(ENTRIES)
-    unknown = [n for n in names if n not in ENTRIES]
+    names = args.regenerate or list(entries)
+    unknown = [n for n in names if n not in entries]
     if unknown:
         parser.error(f"unknown entries {unknown}; see --list")
-    for name in names:
-        path = data_dir() / f"{name}.npz"
-        if path.exists():
-            path.unlink()  # force a fresh run
-        result, prov = load_or_run(name, run_magnitudes, ENTRIES[name]["paper"])
-        print(describe_run(name, result, prov))
+    regenerate(names)
     return 0
 
 

@@ -70,20 +70,20 @@ fine = np.linspace(0.0, 0.999, 400)
 # %%
 # Figure
 # ------
-fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
-ax = axes[0]
+fig, axes = plt.subplot_mosaic([["a", "a"], ["b", "c"]], figsize=(8, 7.6))
+ax = axes["a"]
 ax.plot(t_steps, x_steps, color="C0", label="x(t)")
 ax.plot(t_steps, t_steps - 1.0, color="0.5", linestyle=":", label="u - 1 (threshold)")
 ax.set_xlabel("plate time t")
 ax.set_ylabel("x")
 ax.set_title("(a) sigma = 0.01, alpha = 2")
 ax.legend(loc="upper left")
-inset = ax.inset_axes([0.62, 0.1, 0.35, 0.3])
+inset = ax.inset_axes([0.64, 0.1, 0.33, 0.36])
 tr = res.traces[res.traces["event"] == 1]
 inset.plot(tr["time"], tr["x"] - tr["x"].iloc[0], color="C1")
-inset.set_title("x - x(t_i) inside one slip", fontsize=7)
-inset.tick_params(labelsize=7)
-for ax, curve, sigma, tag in ((axes[1], curve_b, 0.01, "(b)"), (axes[2], curve_c, 1e-4, "(c)")):
+inset.set_title("x - x(t_i) inside one slip", fontsize=9)
+inset.tick_params(labelsize=9)
+for ax, curve, sigma, tag in ((axes["b"], curve_b, 0.01, "(b)"), (axes["c"], curve_c, 1e-4, "(c)")):
     ax.plot(curve["alpha"], curve["s"], "o-", markersize=3, label="faultnet")
     ax.plot(fine, dynamics.linear_slip(sigma, fine), "k--", label="Eq. (6)")
     ax.set_ylim(0.0, 1.15 * curve["s"].max())

@@ -45,22 +45,21 @@ for d in DIFFS:
 # %%
 # Figure
 # ------
-fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+fig, axes = plt.subplots(2, 1, figsize=(8, 7.6), sharex=True)
 for color, d in zip(("C0", "C3"), DIFFS, strict=True):
     res, tr = runs[d]
     axes[0].plot(tr.index, tr[0], color=color, linestyle="-", label=f"x1, d(0) = {d}")
     axes[0].plot(tr.index, tr[1], color=color, linestyle="--", label=f"x2, d(0) = {d}")
     style = "-" if d == DIFFS[0] else "--"
     axes[1].plot(tr.index, tr[1] - tr[0], color=color, linestyle=style, label=f"d(0) = {d}")
-axes[0].set_xlabel("time since the event started")
 axes[0].set_ylabel("x")
 axes[0].set_title("(a) x1 (solid), x2 (dashed)")
-axes[0].legend(fontsize=8)
+axes[0].legend()
 axes[1].axhline(0.0, color="0.6", linewidth=0.8)
 axes[1].set_xlabel("time since the event started")
 axes[1].set_ylabel("x2 - x1")
 axes[1].set_title("(b) x2 - x1")
-axes[1].legend(fontsize=8)
+axes[1].legend()
 fig.suptitle(f"Fig. 3 [{'FAST mode' if FAST else 'paper mode'}]")
 fig.tight_layout()
 paper.save_figure(fig, "fig03")

@@ -77,11 +77,12 @@ together = np.array(together)
 # %%
 # Figure
 # ------
-fig, axes = plt.subplots(1, 4, figsize=(18, 4.2))
+fig, axes = plt.subplots(2, 2, figsize=(8, 7.6))
+axes = axes.ravel()
 n_show = min(150, N_EVENTS)
 ev = chaos.events.iloc[:n_show]
 plotting.plot_time_series(ev["t"], ev["S"], ax=axes[0], kind="S")
-axes[0].set_title("(a) S(t), chaotic simultaneous slips")
+axes[0].set_title("(a) S(t): chaotic simultaneous slips")
 axes[1].plot(ev["t"], d_chaos[:n_show], "o-", markersize=3)
 axes[1].set_xlabel("t")
 axes[1].set_ylabel("x2 - x1 after the event")
@@ -107,15 +108,15 @@ axes[2].scatter(
     label="two-period state",
     zorder=4,
 )
-axes[2].legend(fontsize=7, loc="lower left")
+axes[2].legend(fontsize=9, loc="lower left")
 axes[2].set_title("(c) map at alpha = 0.28")
 axes[2].set_xticks([-0.003, -0.0015, 0.0, 0.0015, 0.003])
 axes[3].plot(scan_alphas, together, "o-", markersize=3)
-axes[3].axvspan(0.25, 0.32, color="0.9", label="paper: 0.25 < alpha < 0.32")
+axes[3].axvspan(0.25, 0.32, color="0.9", label="paper: 0.25..0.32")
 axes[3].set_xlabel("alpha")
-axes[3].set_ylabel("fraction of two-block events")
-axes[3].set_title("(extra) simultaneous-slip state vs alpha")
-axes[3].legend(fontsize=8)
+axes[3].set_ylabel("two-block events (fraction)")
+axes[3].set_title("(extra) simultaneous slips vs alpha")
+axes[3].legend(fontsize=9)
 fig.suptitle(f"Fig. 4 [{'FAST mode' if FAST else 'paper mode'}]")
 fig.tight_layout()
 paper.save_figure(fig, "fig04")

@@ -97,7 +97,8 @@ if not FAST:
 # Figure
 # ------
 shown = slice(0, 3 * N)
-fig, axes = plt.subplots(1, 4, figsize=(18, 4.2))
+fig, axes = plt.subplots(2, 2, figsize=(8, 7.6))
+axes = axes.ravel()
 x_rel = wave.profiles - wave.state.u  # displacement relative to the plate
 t0 = float(ev["t"].iloc[0])
 t_rel = ev["t"].to_numpy()[shown] - t0
@@ -125,11 +126,11 @@ if random_ic is not None:
 axes[3].set_yscale("log")
 axes[3].set_ylim(0.8, 1.5 * N)
 axes[3].set_xlabel("alpha (ramp)")
-axes[3].set_ylabel("blocks in the largest event of a step")
+axes[3].set_ylabel("largest event of a step (blocks)")
 axes[3].set_title(f"(d) ramp: {D_ALPHA} per {PER_STEP} events")
-axes[3].legend(fontsize=8)
+axes[3].legend(fontsize=9)
 fig.suptitle(f"Fig. 5, N = {N} [{'FAST mode' if FAST else 'paper mode'}]")
-fig.tight_layout()
+fig.tight_layout(w_pad=2.0)
 paper.save_figure(fig, "fig05")
 
 # %%

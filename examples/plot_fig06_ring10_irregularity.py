@@ -26,6 +26,8 @@ one-block slip of Fig. 1b; the others are below 0.1).
 # -----
 import _paper_data as paper
 import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
 
 import faultnet
 from faultnet import plotting
@@ -45,8 +47,35 @@ paper.header(
     ],
 )
 
+# %%
+# Run with the irregularity after every event
+# -------------------------------------------
+# ``record_profiles=True`` keeps x after every event; ``faultnet.irregularity``
+# turns a result's profiles into Delta (Eq. 13) per event, and takes a single
+# state too (the initial one here).  The run goes on in chunks of 2000 events
+# (``x0=state`` continues it) until the plate time passes ``T_END``; the
+# profiles of the drawn window are kept.
 ring = faultnet.CarlsonLanger(faultnet.graphs.ring(N), k=16, sigma=0.01, alpha=ALPHA)
-events, profiles, kept = paper.run_with_irregularity(ring, T_END, SEED, keep_profiles=WINDOW)
+state = np.random.default_rng(SEED).uniform(0.0, 0.01, ring.n)
+delta_prev = faultnet.irregularity(state, ring)
+parts, kept_profiles = [], []
+while True:
+    res = faultnet.simulate(ring, 2000, x0=state, progress=False, record_profiles=True)
+    state = res.state
+    ev = res.events.copy()
+    delta = faultnet.irregularity(res)
+    ev["Delta"] = delta
+    ev["Delta_before"] = np.concatenate([[delta_prev], delta[:-1]])
+    delta_prev = float(delta[-1])
+    inside = (ev["t"] >= WINDOW[0]) & (ev["t"] <= WINDOW[1])
+    kept_profiles.append(res.profiles[inside.to_numpy()])
+    parts.append(ev)
+    if ev["t"].iloc[-1] >= T_END:
+        break
+events = pd.concat(parts, ignore_index=True)
+events = events[events["t"] <= T_END].reset_index(drop=True)
+kept = ((events["t"] >= WINDOW[0]) & (events["t"] <= WINDOW[1])).to_numpy()
+profiles = np.concatenate(kept_profiles)[: int(kept.sum())]
 win = events[kept]
 steady = events[events["t"] > T_TRANSIENT]
 print(
@@ -57,28 +86,42 @@ print(
 # %%
 # Figure
 # ------
-fig, axes = plt.subplots(1, 3, figsize=(15, 4.3))
+fig, axes = plt.subplot_mosaic([["a", "b"], ["a", "c"]], figsize=(8, 6.4))
 t_win = win["t"].to_numpy()
 plate = t_win[:, None]  # x relative to the plate: the dent is what lags behind
-plotting.plot_profiles(profiles - plate, t=t_win, ax=axes[0], subtract_mean=True)
-axes[0].set_title("(a) x_i - <x> after each event")
-plotting.plot_time_series(t_win, win["S"], ax=axes[1], kind="S")
-axes[1].set_yscale("symlog", linthresh=1e-3)
-axes[1].set_title("(b) S(t)")
-plotting.plot_time_series(t_win, win["Delta"], ax=axes[2], kind="delta")
+plotting.plot_profiles(profiles - plate, t=t_win, ax=axes["a"], subtract_mean=True)
+axes["a"].set_title("(a) x_i - <x> after each event")
+plotting.plot_time_series(t_win, win["S"], ax=axes["b"], kind="S")
+axes["b"].set_yscale("symlog", linthresh=1e-3)
+axes["b"].set_title("(b) S(t)")
+plotting.plot_time_series(t_win, win["Delta"], ax=axes["c"], kind="delta")
 large_t = win.loc[win["S"] > S_LARGE, "t"]
-for ax in axes[1:]:
+for ax in (axes["b"], axes["c"]):
     for t in large_t:
         ax.axvline(t, color="C3", linewidth=0.5, alpha=0.5)
-axes[2].set_title("(c) Delta(t) (red: large slips)")
+axes["c"].set_title("(c) Delta(t) (red: large slips)")
 fig.suptitle(f"Fig. 6 [{'FAST mode' if FAST else 'paper mode'}]")
 fig.tight_layout()
 paper.save_figure(fig, "fig06")
 
 # %%
+# How Delta changes in small and large slips
+# ------------------------------------------
+# The change of Delta in each event, split at S = S_LARGE; a "phase" is the run
+# of small slips between two large ones, and its net change is Delta before the
+# next large slip minus Delta after the last one.
+change = (steady["Delta"] - steady["Delta_before"]).to_numpy()
+large = (steady["S"] > S_LARGE).to_numpy()
+before = steady["Delta_before"].to_numpy()
+after = steady["Delta"].to_numpy()
+idx = np.flatnonzero(large)
+phases = np.array(
+    [before[j] - after[i] for i, j in zip(idx[:-1], idx[1:], strict=True) if j > i + 1]
+)
+
+# %%
 # Paper versus faultnet
 # ---------------------
-summary = paper.delta_summary(steady, S_LARGE)
 table = paper.Table("Fig. 6", FAST)
 table.add("smallest slip (single block)", "1.007e-3", f"{steady['S'].min():.4e}")
 table.add(
@@ -87,5 +130,27 @@ table.add(
     f"{int((win['S'] > S_LARGE).sum())} in {len(win)} events",
     f"{int(((win['S'] > S_LARGE) & (win['n_blocks'] == N)).sum())} of them move all N blocks",
 )
-paper.add_delta_rows(table, summary, S_LARGE)
+table.add(
+    f"mean change of Delta per small slip (S <= {S_LARGE:g})",
+    "< 0 (decreases)",
+    f"{change[~large].mean():+.3e}",
+    f"{(change[~large] < 0).mean():.0%} of {int((~large).sum())} small slips lower it",
+)
+table.add(
+    "net change of Delta between large slips",
+    "< 0 (decreases)",
+    f"{phases.mean():+.3e}",
+    f"{(phases < 0).mean():.0%} of {phases.size} phases end lower",
+)
+table.add(
+    f"mean change of Delta per large slip (S > {S_LARGE:g})",
+    "> 0 (jumps up)",
+    f"{change[large].mean():+.3e}",
+    f"{(change[large] > 0).mean():.0%} of {int(large.sum())} large slips raise it",
+)
+table.add(
+    "Delta before large slips / mean Delta",
+    "< 1 (flatter profile)",
+    f"{before[large].mean() / before.mean():.3f}",
+)
 table.print()

@@ -12,7 +12,7 @@ The data come from a real sweep, stored in ``data/showcase/summary.csv``
 (one row per point: parameters, events, both b fits, wall time, seeds) and
 regenerated with::
 
-    faultnet sweep data/showcase/sweep.toml --out /tmp/showcase-parts \\
+    faultnet sweep data/showcase/sweep.toml --out showcase-parts \\
         --csv data/showcase/summary.csv
 
 Stored run: 8 alpha values x 3 graphs x 3 replicas = 72 points, 40,000 events
@@ -70,8 +70,8 @@ if FAST or not DATA.exists():
 else:
     table = pd.read_csv(DATA)
     print(
-        f"stored sweep {DATA}: {len(table)} points, {int(table.events.iloc[0]):,} events "
-        f"each, transient {int(table.transient.iloc[0]):,}"
+        f"stored sweep showcase/{DATA.name}: {len(table)} points, "
+        f"{int(table.events.iloc[0]):,} events each, transient {int(table.transient.iloc[0]):,}"
     )
 
 # %%
@@ -90,9 +90,9 @@ ax.axhline(2 / 3, color="0.5", ls=":", lw=1, label="b = 2/3")
 ax.set_xlabel(r"velocity-weakening parameter $\alpha$")
 ax.set_ylabel(r"$b$ (Aki MLE, natural-log magnitudes)")
 ax.set_title(r"$b$ against $\alpha$ (k = 16, $\sigma$ = 0.01; error bars: s.d. over seeds)")
-ax.legend(fontsize=8)
+ax.legend(fontsize=9)
 FIGURES.mkdir(parents=True, exist_ok=True)
 out = FIGURES / "showcase_b_vs_alpha.png"
 fig.tight_layout()
 fig.savefig(out, dpi=120)
-print(f"saved {out}")
+print(f"figure saved as {out.name}")

@@ -281,3 +281,17 @@ def test_stored_seismicity_runs_have_provenance():
             assert key in prov, (name, key)
         assert prov["builder"] == "run_seismicity" and result["n_events"] >= 2_000_000
         assert result["n_mainshocks"] > 300
+
+
+# --------------------------------------------------------------------------- networks of faults
+
+
+def test_fault_network_page_runs_in_fast_mode(tmp_path):
+    out = run_fast("plot_fault_networks.py", tmp_path)
+    table = [line.split() for line in out.splitlines() if line.startswith(("0.1", "2.0", "32.0"))]
+    fractions = {}
+    for row in table:  # the first table: k_coupling, events, fraction on both faults
+        fractions.setdefault(float(row[0]), float(row[2]))
+    assert set(fractions) == {0.1, 2.0, 32.0}, out
+    assert all(0.0 < f < 1.0 for f in fractions.values())
+    assert "b_err" in out and "/" not in out.replace("1/", "")  # no path printed
