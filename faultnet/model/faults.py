@@ -15,20 +15,21 @@ from faultnet.exceptions import InvalidParameterError
 
 __all__ = ["FAULT_LABEL_RULE", "fault_label_ok", "fault_numbers"]
 
-FAULT_LABEL_RULE = "a str, an int or a tuple of those"
+FAULT_LABEL_RULE = "a str, an int or a tuple of those (nested allowed)"
 
 
 def fault_label_ok(value) -> bool:
-    """True if ``value`` is a fault label: :data:`FAULT_LABEL_RULE`.
+    """True if ``value`` is a fault label: :data:`FAULT_LABEL_RULE`, the labels a catalog
+    file gives back with their type (NumPy integers count as ints, bools do not).
 
-    >>> fault_label_ok("A"), fault_label_ok(("A", 2)), fault_label_ok(1.5), fault_label_ok(())
-    (True, True, False, False)
+    >>> [fault_label_ok(v) for v in ("A", ("A", (2, "b")), 1.5, (), True)]
+    [True, True, False, False, False]
     """
-
-    def atom(v):
-        return isinstance(v, str) or (isinstance(v, numbers.Integral) and not isinstance(v, bool))
-
-    return atom(value) or (isinstance(value, tuple) and len(value) > 0 and all(map(atom, value)))
+    if isinstance(value, tuple):
+        return len(value) > 0 and all(map(fault_label_ok, value))
+    if isinstance(value, bool | np.bool_):
+        return False
+    return isinstance(value, str | numbers.Integral)
 
 
 def fault_numbers(graph):

@@ -34,6 +34,7 @@ __all__ = [
 
 
 def _axes(ax):
+    """``ax``, or the Axes of a new figure (every plot of the package draws through this)."""
     if ax is None:
         import matplotlib.pyplot as plt
 

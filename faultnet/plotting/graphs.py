@@ -9,16 +9,9 @@ from __future__ import annotations
 import numpy as np
 
 from faultnet.exceptions import InvalidParameterError
+from faultnet.plotting.figures import _axes
 
 __all__ = ["plot_faults", "plot_graph"]
-
-
-def _axes(ax):
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots()
-    return ax
 
 
 def _positions(graph, nodes):

@@ -21,18 +21,11 @@ from __future__ import annotations
 import numpy as np
 
 from faultnet._validate import check_columns
+from faultnet.plotting.figures import _axes
 
 __all__ = ["plot_distance_profile", "plot_interevent_times", "plot_stack"]
 
 _THETA_EDGES = np.logspace(-5, 2, 36)
-
-
-def _axes(ax):
-    if ax is None:
-        import matplotlib.pyplot as plt
-
-        _, ax = plt.subplots()
-    return ax
 
 
 def plot_interevent_times(theta, ax=None, bins=None, label=None, poisson=True, **kw):
