@@ -59,6 +59,8 @@ def cmd_simulate(args, out):
         raise InvalidParameterError(f"{flag} needs --out FILE: the catalog to continue")
     if args.out is not None:
         check_catalog_path(args.out, "--out")
+    elif args.record_slips:
+        raise InvalidParameterError("--record-slips needs --out FILE: the slips go next to it")
     tic = time.perf_counter()
     report = run_from_spec(
         args.graph,
@@ -77,6 +79,7 @@ def cmd_simulate(args, out):
         extend=args.extend,
         force=args.force,
         progress=args.progress,
+        record_slips=args.record_slips,
     )
     _print_run(args, report, time.perf_counter() - tic, out)
     md = report.metadata
@@ -92,7 +95,16 @@ def cmd_simulate(args, out):
         print("(no --out given: the catalog was not saved)", file=out)
     elif report.status != "already complete":
         print(f"wrote {report.path} ({_size(report.path)})", file=out)
+        for path in _side_files(report.path):
+            print(f"wrote {path} ({_size(path)})", file=out)
     return EXIT_OK
+
+
+def _side_files(path):
+    """The side tables written next to the catalog ``path`` (slips, per-fault slips)."""
+    from faultnet.io.slips import SIDE_TABLES, side_path
+
+    return [side_path(path, name) for name in SIDE_TABLES if os.path.isfile(side_path(path, name))]
 
 
 def _print_run(args, report, elapsed, out):

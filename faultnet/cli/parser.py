@@ -180,7 +180,8 @@ def _add_simulate(sub):
 
 
 def _output_flags(p):
-    """--out, --transient, --chunk, --checkpoint-every, --resume and --force of simulate."""
+    """--out, --transient, --chunk, --checkpoint-every, --record-slips, --resume and --force of
+    simulate."""
     p.add_argument(
         "--out",
         "-o",
@@ -208,6 +209,13 @@ def _output_flags(p):
         default=60.0,
         metavar="SECONDS",
         help="seconds between checkpoints (default 60)",
+    )
+    p.add_argument(
+        "--record-slips",
+        action="store_true",
+        default=None,
+        help="also write the per-block slips of every event next to --out "
+        "(FILE.slips.parquet; read them with faultnet.read_slips)",
     )
     p.add_argument(
         "--resume", action="store_true", help="continue the interrupted run of --out (or start it)"

@@ -7,9 +7,16 @@ Next to an output ``catalog.parquet`` an unfinished run keeps a folder
     the run's identity (graph hash, events, step, options, seed) and request;
 ``chunk-000000.parquet``, ...
     the committed events, one file per checkpoint *chunk*;
+``slips-000000.parquet``, ``fault_slips-000000.parquet``, ...
+    the chunk's side tables (:data:`SIDE_TABLES`), where the run writes them: the
+    per-block slips (``record_slips``) and, on a network of faults, the per-fault slips;
 ``checkpoint.npz``
     the model state after the last committed chunk (``z``, ``offset``, ``w``,
-    ``n_events``), how many chunks and rows it covers, and the work counters.
+    ``n_events``), how many chunks and rows it covers, the work counters and the
+    SHA-256 of every committed file.
+
+The finished run is the catalog ``out`` and, next to it, one file per side table
+(:func:`side_path`: ``catalog.slips.parquet``, ``catalog.fault_slips.parquet``).
 
 A chunk is written atomically first, then the checkpoint that covers it; a
 chunk beyond the checkpoint (a kill between the two steps) is discarded on
@@ -58,10 +65,12 @@ import numpy as np
 
 from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
 from faultnet.io.atomic import atomic_path, fsync_dir, is_tmp_name
+from faultnet.io.slips import SIDE_TABLES, side_path
 from faultnet.model.state import State
 
 __all__ = [
     "CHECKPOINT_SUFFIX",
+    "SIDE_TABLES",
     "Checkpoint",
     "checkpoint_dir",
     "checkpoint_status",
@@ -75,14 +84,27 @@ __all__ = [
     "run_identity",
     "save_checkpoint",
     "sha256_file",
+    "side_chunk_path",
+    "side_path",
+    "side_tables",
     "verify_chunks",
 ]
 
 CHECKPOINT_SUFFIX = ".checkpoint"
 RUN_FORMAT = "faultnet-run"
-_CHUNK_RE = re.compile(r"chunk-(\d{6})\.parquet$")
+_CHUNK_RE = re.compile(r"(chunk|slips|fault_slips)-(\d{6})\.parquet$")
 #: run.json fields that must agree for a resume to continue the same run
-IDENTITY = ("n_events", "dt", "options", "seed_entropy", "seed_spawn_key", "graph_hash")
+IDENTITY = (
+    "n_events",
+    "dt",
+    "options",
+    "seed_entropy",
+    "seed_spawn_key",
+    "graph_hash",
+    "record_slips",
+)
+#: the value of an identity field that files written before it existed lack
+IDENTITY_DEFAULTS = {"record_slips": False}
 _COUNTERS = {"wall_time_s": float, "n_steps": int, "block_steps": int, "runs": int}
 #: a counter's name in checkpoints written by faultnet 0.2 and 0.3.0 development versions
 _FORMER_NAMES = {"runs": "sessions"}
@@ -98,7 +120,22 @@ def chunk_path(wd, i) -> str:
     return os.path.join(wd, f"chunk-{i:06d}.parquet")
 
 
-def run_identity(model, n_events, dt, options, seq) -> dict:
+def side_chunk_path(wd, name, i) -> str:
+    """Path of side table ``name``'s part of committed chunk ``i``."""
+    return os.path.join(wd, f"{name}-{i:06d}.parquet")
+
+
+def side_tables(model, record_slips) -> tuple:
+    """The side tables a run of ``model`` writes: the per-block slips where ``record_slips``,
+    the per-fault slips on a network of faults."""
+    return tuple(
+        name
+        for name, wanted in zip(SIDE_TABLES, (record_slips, model.faults is not None), strict=True)
+        if wanted
+    )
+
+
+def run_identity(model, n_events, dt, options, seq, record_slips=False) -> dict:
     """What makes two runs the same run (compared by :func:`mismatch` on resume)."""
     from faultnet.model.identity import graph_hash
 
@@ -109,6 +146,7 @@ def run_identity(model, n_events, dt, options, seq) -> dict:
         "seed_entropy": seq.entropy,
         "seed_spawn_key": list(seq.spawn_key),
         "graph_hash": graph_hash(model),
+        "record_slips": bool(record_slips),
     }
 
 
@@ -116,12 +154,14 @@ def mismatch(stored, wanted, keys=IDENTITY) -> list:
     """The identity fields in which ``stored`` and ``wanted`` differ, as sentences."""
     diffs = []
     for key in keys:
-        a, b = stored.get(key), wanted.get(key)
+        default = IDENTITY_DEFAULTS.get(key)
+        a, b = stored.get(key, default), wanted.get(key, default)
         if isinstance(a, list | tuple) or isinstance(b, list | tuple):
             a, b = list(a or []), list(b or [])
         if a != b:
             diffs.append(
-                f"{key}: checkpoint has {stored.get(key)!r}, this call {wanted.get(key)!r}"
+                f"{key}: checkpoint has {stored.get(key, default)!r}, this call "
+                f"{wanted.get(key, default)!r}"
             )
     return diffs
 
@@ -166,15 +206,21 @@ def sha256_file(path, block=1 << 16) -> str:
 class Checkpoint:
     """The contents of ``checkpoint.npz``: the state after ``rows`` committed events.
 
-    ``sha256`` holds the SHA-256 of each committed chunk file, in order.
+    ``sha256`` holds the SHA-256 of each committed chunk file, in order, and ``sides``
+    those of each side table's parts: ``{name: [sha256 per chunk]}``.
     """
 
-    def __init__(self, state, rows=0, n_chunks=0, counters=None, sha256=None):
+    def __init__(self, state, rows=0, n_chunks=0, counters=None, sha256=None, sides=None):
         self.state = state
         self.rows = rows
         self.n_chunks = n_chunks
         self.counters = counters or {name: kind(0) for name, kind in _COUNTERS.items()}
         self.sha256 = list(sha256 or [])
+        self.sides = {name: list(shas) for name, shas in (sides or {}).items()}
+
+
+def _sha_array(shas):
+    return np.array(shas, dtype="U64").reshape(len(shas))
 
 
 def save_checkpoint(path, ck: Checkpoint):
@@ -188,7 +234,8 @@ def save_checkpoint(path, ck: Checkpoint):
             n_events=np.int64(ck.state.n_events),
             rows=np.int64(ck.rows),
             n_chunks=np.int64(ck.n_chunks),
-            chunk_sha256=np.array(ck.sha256, dtype="U64").reshape(len(ck.sha256)),
+            chunk_sha256=_sha_array(ck.sha256),
+            **{f"{name}_sha256": _sha_array(shas) for name, shas in ck.sides.items()},
             **{name: np.asarray(ck.counters[name]) for name in _COUNTERS},
         )
 
@@ -208,7 +255,12 @@ def load_checkpoint(path) -> Checkpoint:
                 for name, kind in _COUNTERS.items()
             }
             sha = [str(h) for h in data["chunk_sha256"]]
-            ck = Checkpoint(state, int(data["rows"]), int(data["n_chunks"]), counters, sha)
+            sides = {
+                name: [str(h) for h in data[f"{name}_sha256"]]
+                for name in SIDE_TABLES
+                if f"{name}_sha256" in data.files
+            }
+            ck = Checkpoint(state, int(data["rows"]), int(data["n_chunks"]), counters, sha, sides)
     except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as exc:
         reason = (
             "is empty"
@@ -216,7 +268,8 @@ def load_checkpoint(path) -> Checkpoint:
             else (f"is truncated or corrupt ({type(exc).__name__}: {exc})")
         )
         raise CatalogError(f"checkpoint {path} {reason}; {_restart_hint(path)}") from None
-    if len(ck.sha256) != ck.n_chunks or ck.rows != ck.state.n_events:
+    uneven = any(len(shas) != ck.n_chunks for shas in ck.sides.values())
+    if len(ck.sha256) != ck.n_chunks or ck.rows != ck.state.n_events or uneven:
         raise CatalogError(
             f"checkpoint {path} is inconsistent ({ck.n_chunks} chunks, {len(ck.sha256)} "
             f"checksums, {ck.rows} rows, state after {ck.state.n_events} events); "
@@ -225,38 +278,65 @@ def load_checkpoint(path) -> Checkpoint:
     return ck
 
 
-def verify_chunks(wd, ck: Checkpoint) -> int:
-    """Check every committed chunk against its checksum, row count and event numbers.
+def _check_sha(path, recorded):
+    try:
+        digest = sha256_file(path)
+    except OSError as exc:
+        raise CatalogError(
+            f"committed chunk {path} is missing or unreadable ({exc}); the run cannot "
+            f"resume exactly: {_restart_hint(path)}"
+        ) from None
+    if digest != recorded:
+        raise CatalogError(
+            f"committed chunk {path} does not match its checksum (sha256 {digest[:12]}..., "
+            f"recorded {recorded[:12]}...): it was changed or damaged after it was "
+            f"written; {_restart_hint(path)}"
+        )
 
-    Returns the total number of rows; raises CatalogError naming the first bad file.
-    """
+
+def _event_column(path):
     import pyarrow.parquet as pq
 
+    try:
+        return pq.read_table(path, columns=["event"]).column("event").to_numpy()
+    except Exception as exc:
+        raise CatalogError(f"committed chunk {path} is unreadable ({exc})") from None
+
+
+def verify_chunks(wd, ck: Checkpoint, tables=None) -> int:
+    """Check every committed chunk against its checksum, row count and event numbers, and
+    each side table's parts against theirs and the chunk's events.
+
+    ``tables`` are the side tables the run writes (None: those the checkpoint records).
+    Returns the total number of rows; raises CatalogError naming the first bad file.
+    """
+    tables = tuple(ck.sides) if tables is None else tuple(tables)
+    if set(tables) != set(ck.sides):
+        path = os.path.join(wd, "checkpoint.npz")
+        raise CatalogError(
+            f"checkpoint {path} records the tables {sorted(ck.sides) or 'none'} besides the "
+            f"events, but this run writes {sorted(tables) or 'none'}; {_restart_hint(path)}"
+        )
     total = 0
     for i in range(ck.n_chunks):
         path = chunk_path(wd, i)
-        try:
-            digest = sha256_file(path)
-        except OSError as exc:
-            raise CatalogError(
-                f"committed chunk {path} is missing or unreadable ({exc}); the run cannot "
-                f"resume exactly: {_restart_hint(path)}"
-            ) from None
-        if digest != ck.sha256[i]:
-            raise CatalogError(
-                f"committed chunk {path} does not match its checksum (sha256 {digest[:12]}..., "
-                f"recorded {ck.sha256[i][:12]}...): it was changed or damaged after it was "
-                f"written; {_restart_hint(path)}"
-            )
-        try:
-            events = pq.read_table(path, columns=["event"]).column("event").to_numpy()
-        except Exception as exc:
-            raise CatalogError(f"committed chunk {path} is unreadable ({exc})") from None
+        _check_sha(path, ck.sha256[i])
+        events = _event_column(path)
         if not np.array_equal(events, np.arange(total, total + events.size)):
             raise CatalogError(
                 f"committed chunk {path} does not hold events {total}..{total + events.size - 1}"
                 f" in order; {_restart_hint(path)}"
             )
+        for name in tables:
+            side = side_chunk_path(wd, name, i)
+            _check_sha(side, ck.sides[name][i])
+            rows = _event_column(side)
+            inside = rows.size == 0 or (rows[0] >= total and rows[-1] < total + events.size)
+            if not inside or np.any(np.diff(rows) < 0):
+                raise CatalogError(
+                    f"committed chunk {side} does not hold rows of events "
+                    f"{total}..{total + events.size - 1} in order; {_restart_hint(side)}"
+                )
         total += events.size
     if total != ck.rows:
         raise CatalogError(
@@ -310,10 +390,11 @@ def remove_checkpoint_dir(wd):
     fsync_dir(os.path.dirname(os.path.abspath(wd)))
 
 
-def prepare_resume(wd, identity, run) -> Checkpoint | None:
+def prepare_resume(wd, identity, run, tables=()) -> Checkpoint | None:
     """Load and verify a checkpoint; discard chunks and temp files it does not cover.
 
-    ``run`` is the content of the folder's ``run.json`` (None where it has none).
+    ``run`` is the content of the folder's ``run.json`` (None where it has none) and
+    ``tables`` the side tables the run writes.
     """
     run_json = os.path.join(wd, "run.json")
     ck = os.path.join(wd, "checkpoint.npz")
@@ -333,7 +414,7 @@ def prepare_resume(wd, identity, run) -> Checkpoint | None:
         _discard_uncommitted(wd, 0)
         return None
     loaded = load_checkpoint(ck)
-    verify_chunks(wd, loaded)
+    verify_chunks(wd, loaded, tables)
     _discard_uncommitted(wd, loaded.n_chunks)
     return loaded
 
@@ -342,7 +423,7 @@ def _discard_uncommitted(wd, n_chunks):
     """Remove chunks the checkpoint does not cover and temporary files of killed writers."""
     for name in os.listdir(wd):
         m = _CHUNK_RE.fullmatch(name)
-        if (m and int(m.group(1)) >= n_chunks) or is_tmp_name(name):
+        if (m and int(m.group(2)) >= n_chunks) or is_tmp_name(name):
             os.remove(os.path.join(wd, name))
 
 

@@ -44,12 +44,18 @@ from faultnet.runs.checkpoint import (
     chunk_path,
     save_checkpoint,
     sha256_file,
+    side_chunk_path,
+    side_tables,
 )
 
 __all__ = ["ChunkSink", "RunReport", "run_loop", "write_failure"]
 
 #: target wall time of one advance of the Simulator (smooth progress, bounded memory)
 _CALL_SECONDS = 0.25
+#: side-table rows (per-block slips) that commit a chunk however few its events: memory
+SIDE_ROWS_PER_CHUNK = 4_000_000
+#: the Simulator's ``max_slip_rows`` in a run: no limit
+_ALL_ROWS = 2**62
 
 
 @dataclass
@@ -84,17 +90,33 @@ class RunReport:
 
 
 class ChunkSink:
-    """Where the events of a run go: checkpoint chunks in ``wd``, or magnitudes only."""
+    """Where the events of a run go: checkpoint chunks in ``wd``, or magnitudes only.
 
-    def __init__(self, wd, first_md, committed):
+    ``tables`` names the side tables (:data:`~faultnet.runs.checkpoint.SIDE_TABLES`) the run
+    writes next to its events, each a chunk part of its own.
+    """
+
+    def __init__(self, wd, first_md, committed, tables=()):
         self.wd, self.first_md = wd, first_md
         self.committed = committed  # rows in committed chunks
+        self.tables = tuple(tables)
         self.buffer, self.buffered = [], 0
+        self.sides, self.side_rows = {name: [] for name in self.tables}, 0
         self.mags, self.times, self.seen = [], [], {}
 
-    def add(self, events):
-        self.buffer.append(events)
-        self.buffered += len(events)
+    def add(self, result):
+        """Buffer a :class:`~faultnet.SimulationResult`'s events and side tables."""
+        self.buffer.append(result.events)
+        self.buffered += len(result.events)
+        for name in self.tables:
+            frame = getattr(result, name)
+            self.sides[name].append(frame)
+            self.side_rows += len(frame)
+
+    @property
+    def full(self) -> bool:
+        """Whether the buffered side-table rows call for a commit (bounded memory)."""
+        return self.side_rows >= SIDE_ROWS_PER_CHUNK
 
     def flush(self, ck: Checkpoint) -> bool:
         """Commit the buffered events: a chunk file, then the checkpoint covering it.
@@ -108,28 +130,36 @@ class ChunkSink:
         if self.committed + self.buffered != ck.rows or ck.state.n_events != ck.rows:
             raise CatalogError("internal: the buffered events do not match the state")
         buf, n = self.buffer, self.buffered
-        events = pd.concat(buf, ignore_index=True) if len(buf) > 1 else buf[0]
+        events = _joined(buf)
+        sides = {name: _joined(frames) for name, frames in self.sides.items()}
         self.buffer, self.buffered = [], 0
+        self.sides, self.side_rows = {name: [] for name in self.tables}, 0
         if self.wd is None:
             self._see(events)
         else:
-            self._commit(events, ck)
+            self._commit(events, sides, ck)
         self.committed += n
         return self.wd is not None
 
-    def _commit(self, events, ck):
+    def _commit(self, events, sides, ck):
         chunk_md = {"chunk": ck.n_chunks}
         if self.first_md.get("initial_state"):
             chunk_md["initial_state"] = self.first_md["initial_state"]
-        path = chunk_path(self.wd, ck.n_chunks)
         ck_path = os.path.join(self.wd, "checkpoint.npz")
-        with write_failure(path, ck_path, self.committed):
-            write_part(events, path, chunk_md)
-            sha = [*ck.sha256, sha256_file(path)]
-        covering = Checkpoint(ck.state, ck.rows, ck.n_chunks + 1, ck.counters, sha)
+        files = {None: chunk_path(self.wd, ck.n_chunks)}
+        files.update((name, side_chunk_path(self.wd, name, ck.n_chunks)) for name in sides)
+        shas = {}
+        for name, path in files.items():
+            with write_failure(path, ck_path, self.committed):
+                write_part(events if name is None else sides[name], path, chunk_md)
+                shas[name] = sha256_file(path)
+        sha = [*ck.sha256, shas.pop(None)]
+        covering_sides = {name: [*ck.sides[name], shas[name]] for name in sides}
+        covering = Checkpoint(ck.state, ck.rows, ck.n_chunks + 1, ck.counters, sha,
+                              covering_sides)  # fmt: skip
         with write_failure(ck_path, ck_path, self.committed):
             save_checkpoint(ck_path, covering)
-        ck.n_chunks, ck.sha256 = ck.n_chunks + 1, sha
+        ck.n_chunks, ck.sha256, ck.sides = ck.n_chunks + 1, sha, covering_sides
 
     def _see(self, events):
         self.mags.append(events["M"].to_numpy(copy=True))
@@ -139,6 +169,10 @@ class ChunkSink:
         self.seen["largest_n_blocks"] = max(
             self.seen.get("largest_n_blocks", 0), int(events["n_blocks"].max())
         )
+
+
+def _joined(frames):
+    return pd.concat(frames, ignore_index=True) if len(frames) > 1 else frames[0]
 
 
 @contextlib.contextmanager
@@ -189,6 +223,7 @@ def _final_metadata(model, options, identity, first_md, counters, extra, transie
         first_event=0,
         n_events=identity["n_events"],
         initial_state=first_md.get("initial_state", "random"),
+        record_slips=bool(identity.get("record_slips", False)),
         wall_time_s=counters["wall_time_s"],
         n_steps=counters["n_steps"],
         block_steps=counters["block_steps"],
@@ -227,13 +262,15 @@ def _transient(transient, n_events, sink, wd, n_chunks):
         raise CatalogError(f"cannot read the plate times of the chunks in {wd}: {exc}") from exc
 
 
-def _simulator(model, seq, options, ck, first_md, wd):
-    """The Simulator of the run: from the seed, or from the checkpoint's state."""
+def _simulator(model, seq, options, ck, first_md, wd, record_slips):
+    """The Simulator of the run: from the seed, or from the checkpoint's state.  Every
+    per-block slip is kept (the chunks bound the memory), never truncated."""
     from faultnet.solver.simulator import Simulator
 
+    slips = dict(record_slips=record_slips, max_slip_rows=_ALL_ROWS)
     if ck.state is not None:
-        return Simulator(model, x0=ck.state, options=options)
-    sim = Simulator(model, rng=seq, options=options)
+        return Simulator(model, x0=ck.state, options=options, **slips)
+    sim = Simulator(model, rng=seq, options=options, **slips)
     first_md["initial_state"] = "random U[0, 0.01)"
     if wd is not None:
         atomic_write_json(os.path.join(wd, "run.json"), first_md)
@@ -247,7 +284,7 @@ def _advance(sim, ck, sink, bar, *, n_events, chunk_events, interval, on_commit)
     while ck.rows < n_events:
         n_call = min(call, n_events - ck.rows, chunk_events - sink.buffered)
         res = sim.advance(n_call, progress=False)
-        sink.add(res.events)
+        sink.add(res)
         ck.state, ck.rows = sim.state, ck.rows + n_call
         loop_s = float(res.metadata["wall_time_s"])
         for key in ("n_steps", "block_steps"):
@@ -259,7 +296,7 @@ def _advance(sim, ck, sink, bar, *, n_events, chunk_events, interval, on_commit)
         rate = n_call / max(loop_s, 1e-6)
         call = int(min(max(rate * _CALL_SECONDS, 1), chunk_events, 2 * call))
         due = time.monotonic() - last_ck >= interval
-        if sink.buffered >= chunk_events or ck.rows >= n_events or due:
+        if sink.buffered >= chunk_events or ck.rows >= n_events or due or sink.full:
             committed = sink.flush(ck)
             last_ck = time.monotonic()
             if committed and on_commit is not None:
@@ -267,18 +304,20 @@ def _advance(sim, ck, sink, bar, *, n_events, chunk_events, interval, on_commit)
 
 
 def run_loop(*, model, n_events, wd, identity, seq, options, chunk_events, interval,
-             progress, transient, extra, desc, resume_point, stored, on_commit):  # fmt: skip
+             progress, transient, extra, desc, resume_point, stored, on_commit,
+             record_slips=False):  # fmt: skip
     """Run to ``n_events``, committing chunks to ``wd`` (None: keep magnitudes only).
 
     Returns ``(ck, md, sink)``: the checkpoint after the last commit, the final
     metadata and the sink (whose magnitudes and plate times an ``out=None`` run reports).
     ``resume_point`` is the checkpoint a resumed run continues and ``stored`` its run.json.
     """
-    ck = resume_point or Checkpoint(None)
+    tables = side_tables(model, record_slips) if wd is not None else ()
+    ck = resume_point or Checkpoint(None, sides={name: [] for name in tables})
     ck.counters["runs"] += 1
     first_md, created = _open_run(wd, identity, extra, stored)
-    sink = ChunkSink(wd, first_md, ck.rows)
-    sim = _simulator(model, seq, options, ck, first_md, wd)
+    sink = ChunkSink(wd, first_md, ck.rows, tables)
+    sim = _simulator(model, seq, options, ck, first_md, wd, record_slips and wd is not None)
     if progress is not False and sim.compiles:  # a pause of seconds that must not look hung
         from faultnet.solver.simulator import COMPILING_LABEL
 

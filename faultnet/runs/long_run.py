@@ -34,8 +34,10 @@ from faultnet.io.catalog_file import read_metadata, read_state, verify_catalog
 from faultnet.io.labels import check_labels
 from faultnet.io.lock import LOCK_SUFFIX, output_lock
 from faultnet.io.parquet import check_catalog_path, merge_parts
+from faultnet.io.slips import SIDE_TABLES, check_side_table, side_metadata, side_path
 from faultnet.runs.checkpoint import (
     IDENTITY,
+    IDENTITY_DEFAULTS,
     RUN_FORMAT,
     Checkpoint,
     checkpoint_dir,
@@ -49,6 +51,8 @@ from faultnet.runs.checkpoint import (
     run_identity,
     save_checkpoint,
     sha256_file,
+    side_chunk_path,
+    side_tables,
     verify_chunks,
 )
 from faultnet.runs.chunks import RunReport, run_loop, write_failure
@@ -74,6 +78,7 @@ def simulate_to_parquet(
     metadata=None,
     desc=None,
     on_commit=None,
+    record_slips=False,
 ) -> RunReport:
     """Run ``n_events`` events of ``model`` into the Parquet catalog ``out``.
 
@@ -122,6 +127,12 @@ def simulate_to_parquet(
         covering it are written (file outputs only).  An exception it raises
         stops the run as a kill after that commit would: the checkpoint is
         kept and ``resume=True`` continues.
+    record_slips : bool
+        Also write the per-block slips of every event, ``out`` with ``.slips.parquet`` for
+        ``.parquet`` (:func:`faultnet.read_slips`), in chunks with the events: a resumed
+        run's slips equal an uninterrupted run's, bit for bit.  Part of the run's identity.
+        A network of faults always writes each event's slip per fault
+        (``.fault_slips.parquet``, ``read_slips(out, per="fault")``).
 
     Returns
     -------
@@ -129,12 +140,18 @@ def simulate_to_parquet(
     """
     run = dict(rng=rng, dt=dt, options=options, chunk_events=chunk_events,
                checkpoint_interval=checkpoint_interval, progress=progress, transient=transient,
-               metadata=metadata, desc=desc, on_commit=on_commit)  # fmt: skip
+               metadata=metadata, desc=desc, on_commit=on_commit,
+               record_slips=record_slips)  # fmt: skip
     if out is not None:
         with LongRun(out, resume=resume, force=force, extend=extend) as long_run:
             return long_run.run(model, n_events, **run)
     rng = run.pop("rng")
     job = _job(model, n_events, **run)
+    if job["record_slips"]:
+        raise InvalidParameterError(
+            "record_slips=True writes the slips next to the catalog: give an output file "
+            "(out=..., --out FILE), or use simulate(..., record_slips=True) in memory"
+        )
     check_memory(  # the magnitudes and plate times are kept for the summary
         f"n_events={job['n_events']:,} without an output file",
         16 * job["n_events"],
@@ -182,6 +199,7 @@ class LongRun:
             raise OutputExistsError(f"{self.out} is a folder; give a file name for the catalog")
         self.resume, self.force, self.extend = bool(resume), bool(force), bool(extend)
         self.stored, self._from_checkpoint, self._lock = None, False, None
+        self.tables = ()  # the side tables of the run (set by :meth:`run`)
 
     def __enter__(self):
         self._lock = output_lock(self.out + LOCK_SUFFIX, what=self.out)
@@ -223,13 +241,15 @@ class LongRun:
         if not isinstance(model.nodes, range):  # refused now rather than at the first chunk
             check_labels(model.nodes, f"{self.out}: the graph's node labels")
         resume = self.resume or self.extend
+        self.tables = side_tables(model, job["record_slips"])
         if self.extend:
-            self._prepare_extension(job["n_events"])
+            self._prepare_extension(job["n_events"], job["record_slips"])
         if rng is None and resume and not self.force:
             rng = self.stored_seed()
         seq = seed_sequence(rng)
         model, n_events, options = job["model"], job["n_events"], job["options"]
-        identity = run_identity(model, n_events, options.step(model), options, seq)
+        identity = run_identity(model, n_events, options.step(model), options, seq,
+                                job["record_slips"])  # fmt: skip
         start = self._start_or_resume(identity, resume)
         if isinstance(start, RunReport):
             return start
@@ -270,7 +290,8 @@ class LongRun:
         if not os.path.isdir(wd):
             return None
         if resume and not force:
-            return prepare_resume(wd, identity, self.stored if self._from_checkpoint else None)
+            stored = self.stored if self._from_checkpoint else None
+            return prepare_resume(wd, identity, stored, self.tables)
         if force:
             remove_checkpoint_dir(wd)
             return None
@@ -282,10 +303,19 @@ class LongRun:
         )
 
     def merge(self, ck, md):
-        """Verify the committed chunks, stream them into the output, remove the checkpoint."""
+        """Verify the committed chunks, stream them into the output (the side tables first,
+        the catalog last), remove the checkpoint."""
         chunks = [chunk_path(self.wd, i) for i in range(ck.n_chunks)]
         ck_path = os.path.join(self.wd, "checkpoint.npz")
-        verify_chunks(self.wd, ck)  # checksums and event numbers of every chunk
+        verify_chunks(self.wd, ck, self.tables)  # checksums and event numbers of every chunk
+        for name in SIDE_TABLES:
+            target = side_path(self.out, name)
+            with write_failure(target, ck_path, ck.rows, what="merge the chunks into"):
+                if name in self.tables:
+                    parts = [side_chunk_path(self.wd, name, i) for i in range(ck.n_chunks)]
+                    merge_parts(parts, target, side_metadata(name, md), overwrite=True)
+                elif os.path.exists(target):  # another run's, replaced with its catalog
+                    os.remove(target)
         with write_failure(self.out, ck_path, ck.rows, what="merge the chunks into"):
             merge_parts(chunks, self.out, md, overwrite=True, state=ck.state)
         remove_checkpoint_dir(self.wd)
@@ -298,9 +328,15 @@ class LongRun:
                 f"{self.out} exists and holds another run ({'; '.join(diffs)}); refusing to "
                 "overwrite it (use --force / force=True)"
             )
+        self._check_sides(md)
         return md
 
-    def _prepare_extension(self, n_events):
+    def _check_sides(self, md):
+        """Refuse a finished output whose side tables are missing or another run's."""
+        for name in self.tables:
+            check_side_table(self.out, name)
+
+    def _prepare_extension(self, n_events, record_slips):
         """Turn the finished output into the first committed chunk of a run of ``n_events``,
         which then resumes.  The output itself stays as it is until the merge."""
         out, wd = self.out, self.wd
@@ -308,7 +344,7 @@ class LongRun:
             return  # an extension (or a run) in progress: resume checks it is this one
         md = verify_catalog(out)
         state = read_state(out)
-        missing = [key for key in IDENTITY if key not in md]
+        missing = [key for key in IDENTITY if key not in md and key not in IDENTITY_DEFAULTS]
         if md.get("first_event") or missing:
             lacks = ", lacks " + ", ".join(missing) if missing else ""
             raise InvalidParameterError(
@@ -321,13 +357,25 @@ class LongRun:
             raise InvalidParameterError(
                 f"{out} already holds {md['n_events']:,} events; extend it to more than that"
             )
+        if record_slips and not md.get("record_slips"):
+            raise InvalidParameterError(
+                f"{out} was run without record_slips: its extension cannot record them (the "
+                "slips of its events are not on disk); extend it without record_slips, or "
+                "run anew"
+            )
+        sides = {name: side_path(out, name) for name in self.tables}
+        for name in sides:
+            check_side_table(out, name)
         os.makedirs(wd)
-        chunk = chunk_path(wd, 0)
-        try:
-            os.link(out, chunk)  # the same bytes, no copy (the output is replaced, never edited)
-        except OSError:
-            shutil.copyfile(out, chunk)
-        identity = {key: md[key] for key in IDENTITY} | {"n_events": int(n_events)}
+        files = {chunk_path(wd, 0): out}
+        files.update((side_chunk_path(wd, name, 0), path) for name, path in sides.items())
+        for chunk, source in files.items():
+            try:
+                os.link(source, chunk)  # the same bytes, no copy (outputs are replaced, never
+            except OSError:  # edited)
+                shutil.copyfile(source, chunk)
+        identity = {key: md.get(key, IDENTITY_DEFAULTS.get(key)) for key in IDENTITY}
+        identity["n_events"] = int(n_events)
         extra = {key: md[key] for key in ("request", "sweep_point") if key in md}
         if "request" in extra:
             extra["request"] = dict(extra["request"], n_events=int(n_events))
@@ -337,14 +385,16 @@ class LongRun:
         counters = {
             key: md.get(key, 0) for key in ("wall_time_s", "n_steps", "block_steps", "runs")
         }
-        ck = Checkpoint(state, md["n_events"], 1, counters, [sha256_file(chunk)])
+        shas = {name: [sha256_file(side_chunk_path(wd, name, 0))] for name in sides}
+        ck = Checkpoint(state, md["n_events"], 1, counters, [sha256_file(chunk_path(wd, 0))],
+                        shas)  # fmt: skip
         save_checkpoint(os.path.join(wd, "checkpoint.npz"), ck)  # the commit point
         self.stored, self._from_checkpoint = run, True
 
 
 def _job(model, n_events, *, dt=None, options=None, chunk_events=100_000,
          checkpoint_interval=60.0, transient=0, progress=None, metadata=None, desc=None,
-         on_commit=None):  # fmt: skip
+         on_commit=None, record_slips=False):  # fmt: skip
     """The checked arguments of :func:`simulate_to_parquet`, as keywords of the run loop."""
     from faultnet.model.carlson_langer import CarlsonLanger
     from faultnet.solver.engine import run_options
@@ -369,4 +419,11 @@ def _job(model, n_events, *, dt=None, options=None, chunk_events=100_000,
         extra=metadata,
         desc=desc,
         on_commit=on_commit,
+        record_slips=_flag("record_slips", record_slips),
     )
+
+
+def _flag(name, value):
+    if not isinstance(value, bool | np.bool_):
+        raise InvalidParameterError(f"{name} must be True or False; got {value!r}")
+    return bool(value)

@@ -52,6 +52,7 @@ def run_from_spec(
     progress=None,
     extra=None,
     on_commit=None,
+    record_slips=None,
 ) -> RunReport:
     """:func:`~faultnet.runs.long_run.simulate_to_parquet` for a graph spec.
 
@@ -72,6 +73,9 @@ def run_from_spec(
         Seed of the run (and of a random graph); None on ``resume`` takes the stored one.
     extra : dict, optional
         More metadata for ``run.json`` and the catalog, next to ``request``.
+    record_slips : bool or None
+        Write the per-block slips next to the catalog (:func:`faultnet.read_slips`); None
+        is False, or on ``resume`` the stored choice.
     chunk_events, checkpoint_interval, transient, resume, force, extend, progress, on_commit
         As for :func:`~faultnet.runs.long_run.simulate_to_parquet`.
 
@@ -88,11 +92,17 @@ def run_from_spec(
     given = dict(zip(_REQUEST_KEYS, (graph, n_events, k, sigma, alpha, dt, transient), strict=True))
     job = dict(options=options, seed=seed, extra=extra, progress=progress, on_commit=on_commit)
     job.update(chunk_events=chunk_events, checkpoint_interval=checkpoint_interval)
+    job["record_slips"] = record_slips
     if out is None:
+        job["record_slips"] = bool(record_slips)
         return _run(None, given, **job)
     with LongRun(out, resume=resume, force=force, extend=extend) as run:
         if run.stored is not None:
             job["options"], job["seed"] = _take_stored(given, options, seed, run, extend)
+            if record_slips is None:
+                job["record_slips"] = bool(run.stored.get("record_slips", False))
+        elif record_slips is None:
+            job["record_slips"] = False
         return _run(run, given, **job)
 
 

@@ -262,8 +262,8 @@ class KernelArrays:
         self.kstate = KernelState(self.z, self.scal, self.keys, self.tree)
         self.work = Work(self.W, self.IW, self.loc, self.cnt)
         self.record_slips = bool(record_slips)
-        self.slip_cap = max(4 * n, 1 << 16) if record_slips else 0
-        self._slip_buffers(self.slip_cap)
+        self.slip_cap = max(4 * n, 1 << 16)
+        self._slip_buffers(0)
         self.trace_idx = trace_idx
         rows = max_trace_rows if trace_idx.size else 0
         self.trace = np.zeros((rows, TRACE_X + 2 * trace_idx.size), dtype=np.float64)
@@ -294,6 +294,8 @@ class KernelArrays:
         )
         self.ctrl[CTRL_DT] = dt
         self.kernel = getattr(_kernels(), self.options.entry(model))
+        # a network of faults sums each event's slips per fault from the per-block rows
+        self.fault_number = model.fault_number
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
         self.cls = model.block_classes
         self.solo = np.full((int(self.cls.max()) + 1, SOLO_SIZE), np.nan)
@@ -305,11 +307,19 @@ class KernelArrays:
             self.z.copy(), float(self.scal[SCAL_OFFSET]), float(self.scal[SCAL_W]), self.n_events
         )
 
+    @property
+    def recording(self) -> bool:
+        """Whether the kernel writes per-block slip rows: kept (``record_slips``), or summed
+        per fault on a network of faults."""
+        return self.record_slips or self.fault_number is not None
+
     def start_chunk(self, profile_rows):
         """Empty the recording buffers for the next :meth:`Simulator.advance`."""
         self.slip_parts, self.slip_rows, self.slips_truncated = [], 0, False
-        if self.record_slips and self.slip_v.size == 0:
-            self._slip_buffers(self.slip_cap)
+        self.fault_parts = []
+        cap = self.slip_cap if self.recording else 0
+        if self.slip_v.size != cap:
+            self._slip_buffers(cap)
         self.cnt[CNT_SLIP_ROWS] = 0
         self.cnt[CNT_TRACE_ROWS] = self.cnt[CNT_TRACE_FULL] = 0
         n = self.z.shape[0] if profile_rows else 0
@@ -343,14 +353,41 @@ class KernelArrays:
             )
 
     def take_slips(self, limit):
-        """Move the buffered slip rows to ``slip_parts``; stop recording past ``limit`` rows."""
-        m = min(int(self.cnt[CNT_SLIP_ROWS]), limit - self.slip_rows)
+        """Move the buffered slip rows to ``slip_parts`` (at most ``limit`` rows in all, then
+        ``slips_truncated``) and their sums per fault to ``fault_parts``."""
+        rows = int(self.cnt[CNT_SLIP_ROWS])
+        self.cnt[CNT_SLIP_ROWS] = 0
+        if self.fault_number is not None and rows:
+            self.fault_parts.append(
+                per_fault(
+                    self.slip_e[:rows], self.slip_n[:rows], self.slip_v[:rows], self.fault_number
+                )  # fmt: skip
+            )
+        if not self.record_slips:
+            return
+        m = min(rows, limit - self.slip_rows)
         if m > 0:
             self.slip_parts.append(
                 (self.slip_e[:m].copy(), self.slip_n[:m].copy(), self.slip_v[:m].copy())
             )
             self.slip_rows += m
-        self.cnt[CNT_SLIP_ROWS] = 0
-        if self.slip_v.size and self.slip_rows >= limit:
+        if rows > m or self.slip_rows >= limit:
             self.slips_truncated = True
-            self._slip_buffers(0)
+            if self.fault_number is None:
+                self._slip_buffers(0)  # nothing more to keep: the kernel stops writing rows
+
+
+def per_fault(event, node, slip, fault_number):
+    """Each event's slip summed per fault: ``(event, fault number, slip)``, by event and then
+    fault number.  ``event`` is non-decreasing (the kernel writes an event's rows together);
+    the sums add the rows in their order, as a loop over the per-block rows would.
+
+    >>> per_fault(np.array([4, 4, 4, 5]), np.array([0, 1, 2, 2]), np.array([1.0, 2.0, 0.5, 3.0]),
+    ...           np.array([0, 1, 0]))
+    (array([4, 4, 5]), array([0, 1, 0]), array([1.5, 2. , 3. ]))
+    """
+    n_faults = int(fault_number.max()) + 1
+    key = (event - event[0]) * n_faults + fault_number[node]
+    keys, inverse = np.unique(key, return_inverse=True)
+    sums = np.bincount(inverse, weights=slip, minlength=keys.size)
+    return keys // n_faults + event[0], keys % n_faults, sums

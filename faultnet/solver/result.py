@@ -21,7 +21,13 @@ from faultnet.solver._kernels.layout import (
     TRACE_X,
 )
 
-__all__ = ["SimulationResult", "events_frame", "slips_frame", "traces_frame"]
+__all__ = [
+    "SimulationResult",
+    "events_frame",
+    "fault_slips_frame",
+    "slips_frame",
+    "traces_frame",
+]
 
 EVENT_COLUMNS = ["event", "t", "duration", "n_blocks", "S", "M", "hypocenter", "n_steps"]
 #: the columns a network of faults adds (a graph whose blocks carry ``fault``)
@@ -72,6 +78,14 @@ def slips_frame(event, node, slip, nodes):
     )
 
 
+def fault_slips_frame(event, fault, slip, faults):
+    """Per-fault slips in long format: event, fault, slip (``fault``: numbers into the
+    labels ``faults``)."""
+    return pd.DataFrame(
+        {"event": event.astype(np.int64), "fault": node_labels(faults, fault), "slip": slip}
+    )
+
+
 def traces_frame(buf, trace_idx, nodes):
     """Trajectories inside events in long format: event, time, node, x, v."""
     m = len(trace_idx)
@@ -104,6 +118,10 @@ class SimulationResult:
         Final state; pass it as ``x0`` to continue the run exactly.
     slips : pandas.DataFrame or None
         Per-block slips (``event``, ``node``, ``slip``) if recorded.
+    fault_slips : pandas.DataFrame or None
+        On a network of faults (blocks with the node attribute ``fault``), each event's slip
+        summed per fault: ``event``, ``fault``, ``slip``, one row per fault that slipped, by
+        event and then by the faults' order in the graph.  ``n_faults`` counts these rows.
     profiles : numpy.ndarray or None
         Displacements after each event, shape (n_events, n_blocks), if recorded.
     traces : pandas.DataFrame or None
@@ -129,6 +147,7 @@ class SimulationResult:
     slips: pd.DataFrame | None = None
     profiles: np.ndarray | None = None
     traces: pd.DataFrame | None = None
+    fault_slips: pd.DataFrame | None = None
 
     @property
     def x(self) -> np.ndarray:

@@ -24,7 +24,12 @@ from faultnet.solver._kernels.layout import (
     CTRL_MAX_VELOCITY,
     OUT_HYPOCENTER,
 )
-from faultnet.solver.result import SimulationResult, slips_frame, traces_frame
+from faultnet.solver.result import (
+    SimulationResult,
+    fault_slips_frame,
+    slips_frame,
+    traces_frame,
+)
 
 __all__ = ["raise_status", "run_metadata", "wrap_result"]
 
@@ -101,6 +106,12 @@ def _slips(model, arrays):
     return slips
 
 
+def _fault_slips(model, arrays):
+    parts = arrays.fault_parts or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))]
+    event, fault, slip = (np.concatenate([p[c] for p in parts]) for c in range(3))
+    return fault_slips_frame(event, fault, slip, model.faults)
+
+
 def wrap_result(model, arrays, state, dt, events, md, record_profiles) -> SimulationResult:
     """The chunk's :class:`SimulationResult`, with the work counters added to ``md``."""
     md.update({name: int(arrays.cnt[i]) for name, i in _COUNTERS.items()})
@@ -119,4 +130,5 @@ def wrap_result(model, arrays, state, dt, events, md, record_profiles) -> Simula
         slips=_slips(model, arrays) if arrays.record_slips else None,
         profiles=arrays.profiles if record_profiles else None,
         traces=traces,
+        fault_slips=_fault_slips(model, arrays) if model.faults is not None else None,
     )

@@ -371,3 +371,16 @@ def test_the_first_run_says_once_on_stderr_that_it_compiles(monkeypatch, capsys)
     assert err.count(engine.COMPILING_LABEL) == 1 and "Traceback" not in err
     assert main(["simulate", "ring:10", "-n", "50", "--no-progress"]) == 0
     assert engine.COMPILING_LABEL not in capsys.readouterr().err
+
+
+def test_record_slips_writes_resumes_and_continues_the_slips(tmp_path, capsys):
+    out = str(tmp_path / "ring.parquet")
+    args = ["simulate", "ring:40", "--seed", "3", "--out", out, "--no-progress"]
+    assert main([*args, "--events", "600", "--record-slips"]) == 0
+    assert "ring.slips.parquet" in capsys.readouterr().out
+    assert main(["simulate", "--continue", "--out", out, "--events", "900"]) == 0
+    model = build_model("ring:40")
+    ref = faultnet.simulate(model, 900, rng=3, record_slips=True, progress=False)
+    pd.testing.assert_frame_equal(faultnet.read_slips(out), ref.slips)
+    assert main(["simulate", "ring:40", "--events", "10", "--record-slips"]) == 2
+    assert "--record-slips needs --out" in capsys.readouterr().err

@@ -84,3 +84,61 @@ def test_the_faults_change_the_graph_hash():
     labelled = plain.copy()
     nx.set_node_attributes(labelled, {i: "A" if i < 3 else "B" for i in range(6)}, "fault")
     assert graph_hash(faultnet.CarlsonLanger(plain)) != graph_hash(faultnet.CarlsonLanger(labelled))
+
+
+def _sum_in_row_order(result, graph):
+    """Each event's slip per fault, added in the order of the per-block rows."""
+    fault = {node: data["fault"] for node, data in graph.nodes(data=True)}
+    sums = {}
+    for event, node, slip in result.slips.itertuples(index=False):
+        key = (int(event), fault[node])
+        sums[key] = sums.get(key, 0.0) + slip
+    return sums
+
+
+@pytest.mark.parametrize("k_coupling", [0.0, 4.0])
+def test_fault_slips_agree_exactly_with_the_per_block_slips(k_coupling):
+    graph = faultnet.graphs.parallel_faults(3, 15, k_coupling=k_coupling)
+    model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
+    res = faultnet.simulate(model, 1500, rng=8, record_slips=True, progress=False)
+    fs = res.fault_slips
+    assert list(fs.columns) == ["event", "fault", "slip"]
+    expected = _sum_in_row_order(res, graph)
+    got = {(int(e), f): s for e, f, s in fs.itertuples(index=False)}
+    assert got == expected  # the same pairs, the same sums to the last bit
+    per_event = fs.groupby("event").size().reindex(res.events["event"]).to_numpy()
+    assert np.array_equal(per_event, res.events["n_faults"].to_numpy())
+    assert (fs["event"].diff().dropna() >= 0).all()
+    if k_coupling == 0.0:
+        assert per_event.max() == 1
+    else:
+        assert per_event.max() > 1
+
+
+def test_fault_slips_need_no_per_block_slips_and_survive_their_truncation():
+    graph = faultnet.graphs.parallel_faults(2, 20, k_coupling=2.0)
+    model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
+    full = faultnet.simulate(model, 800, rng=4, record_slips=True, progress=False)
+    plain = faultnet.simulate(model, 800, rng=4, progress=False)
+    assert plain.slips is None
+    pd.testing.assert_frame_equal(plain.fault_slips, full.fault_slips)
+    pd.testing.assert_frame_equal(plain.events, full.events)
+    with pytest.warns(UserWarning, match="max_slip_rows"):
+        cut = faultnet.simulate(model, 800, rng=4, record_slips=True, max_slip_rows=100,
+                                progress=False)  # fmt: skip
+    assert len(cut.slips) == 100 and cut.slips.attrs["truncated"]
+    pd.testing.assert_frame_equal(cut.fault_slips, full.fault_slips)
+
+
+def test_a_graph_without_faults_has_no_fault_slips():
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(20), k=16, sigma=0.01, alpha=1.0)
+    assert faultnet.simulate(model, 50, rng=1, progress=False).fault_slips is None
+
+
+def test_fault_slips_continue_across_advances():
+    graph = faultnet.graphs.parallel_faults(2, 20, k_coupling=2.0)
+    model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
+    whole = faultnet.simulate(model, 600, rng=2, progress=False).fault_slips
+    sim = faultnet.Simulator(model, rng=2)
+    parts = [sim.advance(n, progress=False).fault_slips for n in (1, 299, 300)]
+    pd.testing.assert_frame_equal(pd.concat(parts, ignore_index=True), whole)
