@@ -142,3 +142,18 @@ def test_fault_slips_continue_across_advances():
     sim = faultnet.Simulator(model, rng=2)
     parts = [sim.advance(n, progress=False).fault_slips for n in (1, 299, 300)]
     pd.testing.assert_frame_equal(pd.concat(parts, ignore_index=True), whole)
+
+
+def test_the_jump_fraction_of_large_events_grows_with_the_coupling():
+    """Two parallel rings coupled block by block: the share of the largest tenth of the
+    events that rupture both faults is 0 without coupling springs and grows with them."""
+    fractions = []
+    for k_coupling in (0.0, 0.03, 0.3, 1.0):
+        graph = faultnet.graphs.parallel_faults(2, 100, k_coupling=k_coupling, periodic=True)
+        model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
+        ev = faultnet.simulate(model, 15_000, rng=1, progress=False).events
+        ev = ev[ev["t"] > 2.0]
+        large = ev[ev["M"] >= ev["M"].quantile(0.9)]
+        fractions.append(float(np.mean(large["n_faults"] > 1)))
+    assert fractions[0] == 0.0
+    assert all(a + 0.02 < b for a, b in zip(fractions, fractions[1:], strict=False)), fractions
