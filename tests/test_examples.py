@@ -288,10 +288,36 @@ def test_stored_seismicity_runs_have_provenance():
 
 def test_fault_network_page_runs_in_fast_mode(tmp_path):
     out = run_fast("plot_fault_networks.py", tmp_path)
-    table = [line.split() for line in out.splitlines() if line.startswith(("0.1", "2.0", "32.0"))]
+    lines = out.splitlines()
+    start = next(
+        i for i, line in enumerate(lines) if line.split()[:2] == ["k_coupling", "jump_fraction"]
+    )
     fractions = {}
-    for row in table:  # the first table: k_coupling, events, fraction on both faults
-        fractions.setdefault(float(row[0]), float(row[2]))
-    assert set(fractions) == {0.1, 2.0, 32.0}, out
-    assert all(0.0 < f < 1.0 for f in fractions.values())
+    for line in lines[start + 1 :]:  # the first table: k_coupling, jump fraction, error
+        row = line.split()
+        if len(row) != 3:
+            break
+        fractions[float(row[0])] = float(row[1])
+    assert set(fractions) == {0.0, 0.1, 0.3, 1.0, 3.0, 10.0, 32.0}, out
+    assert fractions[0.0] == 0.0  # no coupling springs: no rupture spans two faults
+    assert all(0.0 < f < 1.0 for k, f in fractions.items() if k > 0), out
+    assert "slip on the other fault" in out
     assert "b_err" in out and not re.search(r"(^|\s)/\w", out, re.M)  # no absolute path printed
+
+
+# --------------------------------------------------------------------------- SOC or geometry
+
+
+def test_soc_or_geometry_page_runs_in_fast_mode(tmp_path):
+    out = run_fast("plot_soc_or_geometry.py", tmp_path)
+    rows = {}
+    for line in out.splitlines():
+        parts = line.rsplit(maxsplit=5)
+        if len(parts) == 6 and parts[1] in ("lattice", "cluster"):
+            rows[(parts[0].strip(), parts[1])] = float(parts[4])  # b
+    assert set(rows) == {
+        (model, graph) for model in ("OFC", "Carlson-Langer") for graph in ("lattice", "cluster")
+    }, out
+    assert all(0.2 < b < 4.0 for b in rows.values()), rows
+    # the critical cluster cuts the automaton's avalanches off: a steeper fall than the lattice
+    assert rows[("OFC", "cluster")] > rows[("OFC", "lattice")], rows

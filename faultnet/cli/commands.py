@@ -80,6 +80,8 @@ def cmd_simulate(args, out):
         force=args.force,
         progress=args.progress,
         record_slips=args.record_slips,
+        model=args.model,
+        ofc_alpha=args.ofc_alpha,
     )
     _print_run(args, report, time.perf_counter() - tic, out)
     md = report.metadata
@@ -125,6 +127,13 @@ def _print_run(args, report, elapsed, out):
             f"{n / wall:,.0f} events/s)",
             file=out,
         )
+    if md.get("model") == "ofc":
+        print(
+            f"parameters  OFC automaton, k={md['k']} alpha={md.get('alpha')} "
+            f"({md['update']} topplings) seed={md['seed_entropy']}",
+            file=out,
+        )
+        return
     print(
         f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']} "
         f"seed={md['seed_entropy']}",

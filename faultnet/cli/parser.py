@@ -173,6 +173,20 @@ def _add_simulate(sub):
         "fresh entropy, recorded in the catalog",
     )
     p.add_argument("--dt", type=_finite, help="integration step (default: faultnet.default_dt)")
+    p.add_argument(
+        "--model",
+        choices=("carlson-langer", "ofc"),
+        default=None,
+        help="the model: the Carlson-Langer blocks (default) or the OFC automaton, which takes "
+        "--k or --ofc-alpha (its conservation, alpha = k / (q k + 1)) and no friction",
+    )
+    p.add_argument(
+        "--ofc-alpha",
+        type=_finite,
+        default=None,
+        metavar="ALPHA",
+        help="OFC only: the conservation parameter (0.2 on a fixed square lattice with k = 1)",
+    )
     _run_option_flags(p)
     _output_flags(p)
     _fit_options(p)
@@ -194,7 +208,7 @@ def _output_flags(p):
         default=None,
         metavar="N",
         help="events left out of the b fits (recorded in the catalog; default: the events "
-        "before plate time 2)",
+        "before plate time 2; for --model ofc, before the drive 20 sqrt(N))",
     )
     p.add_argument(
         "--chunk",

@@ -6,23 +6,37 @@ constructors attach a ``pos`` node attribute (an ``(x, y)`` tuple of floats,
 in units of the lattice spacing) and set ``G.graph["name"]`` to a readable
 description such as ``"square_lattice(150, 150, periodic=True)"``.
 
+The lattices take one of three boundaries (``boundary=``, see :data:`BOUNDARIES`):
+
+- ``"periodic"``: both directions wrap (a torus); every block has the full coordination
+  (4 on the square lattice, 6 on the triangular one);
+- ``"free"`` (the default): the edge blocks have fewer springs;
+- ``"fixed"``: the same springs as ``"free"``, and the springs missing at the edge tie the
+  edge blocks to a rigid frame.  Every block carries the node attribute ``wall``, the number
+  of its frame springs (coordination minus degree: 1 on a side, 2 at a corner of the square
+  lattice, 0 inside).  The models give each frame spring their scalar ``k``: a frame spring
+  adds ``k`` to its block's stiffness, and the force it takes is lost from the
+  network (the "open" boundary of the Olami-Feder-Christensen automaton).
+
 :func:`site_percolation` dilutes any such graph by occupying each node
 independently with probability ``p``; :func:`percolation_threshold` gives the
-site-percolation thresholds of the two supported lattices.
+site-percolation thresholds of the two supported lattices (both live in
+:mod:`faultnet.graphs.percolation`).
 """
 
 from __future__ import annotations
 
 import math
-import numbers
 
 import networkx as nx
 import numpy as np
 
-from faultnet._validate import check_int, generator_and_seed
+from faultnet._validate import check_int
 from faultnet.exceptions import InvalidParameterError
+from faultnet.graphs.percolation import percolation_threshold, site_percolation
 
 __all__ = [
+    "BOUNDARIES",
     "chain",
     "ring",
     "square_lattice",
@@ -31,8 +45,10 @@ __all__ = [
     "percolation_threshold",
 ]
 
-_THRESHOLDS = {"square": 0.592746, "triangular": 0.5}
-_KEEP_VALUES = ("largest", "all")
+#: the boundaries a lattice builder takes (``boundary=``)
+BOUNDARIES = ("periodic", "free", "fixed")
+#: springs of a block inside each lattice (its coordination)
+_COORDINATION = {"square_lattice": 4, "triangular_lattice": 6}
 
 
 def chain(n):
@@ -99,31 +115,71 @@ def ring(n):
     return G
 
 
-def _lattice_name(kind, rows, cols, periodic):
-    suffix = ", periodic=True" if periodic else ""
-    return f"{kind}({rows}, {cols}{suffix})"
+def _lattice_name(kind, rows, cols, boundary):
+    suffix = {"periodic": ", periodic=True", "free": "", "fixed": ", boundary='fixed'"}
+    return f"{kind}({rows}, {cols}{suffix[boundary]})"
 
 
-def square_lattice(rows, cols, periodic=False, sparse=False):
+def _boundary(periodic, boundary):
+    """The boundary that ``periodic=`` and ``boundary=`` ask for (one of :data:`BOUNDARIES`)."""
+    allowed = ", ".join(repr(b) for b in BOUNDARIES)
+    if boundary is not None and (not isinstance(boundary, str) or boundary not in BOUNDARIES):
+        raise InvalidParameterError(f"boundary must be one of {allowed}; got boundary={boundary!r}")
+    if periodic is None:
+        return boundary or "free"
+    if not isinstance(periodic, bool | np.bool_):
+        raise InvalidParameterError(f"periodic must be True or False; got periodic={periodic!r}")
+    wanted = "periodic" if periodic else "free"
+    if boundary is None or boundary == wanted or (boundary == "fixed" and not periodic):
+        return boundary or wanted
+    raise InvalidParameterError(
+        f"periodic={bool(periodic)} contradicts boundary={boundary!r}; give boundary= alone "
+        f"(one of {allowed})"
+    )
+
+
+def _finish_lattice(G, kind, boundary):
+    """Record the boundary; on a fixed one, set every block's ``wall`` (its frame springs)."""
+    G.graph["boundary"] = boundary
+    if boundary == "fixed":
+        q = _COORDINATION[kind]
+        nx.set_node_attributes(G, {node: q - d for node, d in G.degree()}, "wall")
+    return G
+
+
+def square_lattice(rows, cols, periodic=None, sparse=False, *, boundary=None):
     """Square lattice of ``rows x cols`` blocks with 4-neighbour springs.
 
     Parameters
     ----------
     rows, cols : int
-        Lattice size, each ``>= 1`` (``>= 3`` when ``periodic``).
+        Lattice size, each ``>= 1`` (``>= 3`` when periodic).
     periodic : bool, optional
-        Wrap both directions (a torus).  Every node then has degree 4.
+        The older spelling of the boundary: True is ``boundary="periodic"``, False
+        ``boundary="free"`` (or ``"fixed"``, if given too).
     sparse : bool, optional
         Return a :class:`faultnet.SparseGraph` (the adjacency only, built with
         numpy in well under a second for 10^6 blocks and ~50 MB) instead of a
-        networkx graph (~1 GB and ~10 s at that size).  Same node numbering.
+        networkx graph (~1 GB and ~10 s at that size).  Same node numbering;
+        a fixed boundary's walls are its ``wall`` array.
+    boundary : {"free", "periodic", "fixed"}, optional
+        ``"free"`` (the default): edge blocks have fewer springs; ``"periodic"``: wrap
+        both directions (a torus), every node of degree 4; ``"fixed"``: the free
+        lattice, and node attribute ``wall = 4 - degree`` (the frame springs of the
+        edge blocks, 0 inside) on every node (see the module's text).
 
     Returns
     -------
     networkx.Graph or SparseGraph
-        Node ``r * cols + c`` sits at ``pos = (float(c), float(r))``.  The open
-        lattice has ``2*rows*cols - rows - cols`` edges, the periodic one
-        ``2*rows*cols``.
+        Node ``r * cols + c`` sits at ``pos = (float(c), float(r))``.  The free and
+        fixed lattices have ``2*rows*cols - rows - cols`` edges, the periodic one
+        ``2*rows*cols``.  ``G.graph["boundary"]`` records the boundary.
+
+    Raises
+    ------
+    InvalidParameterError
+        For a size below the minimum, an unknown ``boundary``, or ``periodic`` and
+        ``boundary`` that contradict each other.
 
     Examples
     --------
@@ -133,18 +189,22 @@ def square_lattice(rows, cols, periodic=False, sparse=False):
     (6, 7, (1.0, 1.0))
     >>> square_lattice(3, 3, periodic=True).number_of_edges()
     18
+    >>> F = square_lattice(3, 3, boundary="fixed")
+    >>> [F.nodes[i]["wall"] for i in range(9)], F.graph["name"]
+    ([2, 1, 2, 1, 0, 1, 2, 1, 2], "square_lattice(3, 3, boundary='fixed')")
     """
     rows = check_int("rows", rows)
     cols = check_int("cols", cols)
-    periodic = bool(periodic)
+    boundary = _boundary(periodic, boundary)
+    periodic = boundary == "periodic"
     if periodic and (rows < 3 or cols < 3):
         raise InvalidParameterError(
             f"periodic square_lattice needs rows >= 3 and cols >= 3, got rows={rows}, "
             f"cols={cols}: wrapping would create duplicate edges or self-loops"
         )
-    name = _lattice_name("square_lattice", rows, cols, periodic)
+    name = _lattice_name("square_lattice", rows, cols, boundary)
     if sparse:
-        return _square_sparse(rows, cols, periodic, name)
+        return _square_sparse(rows, cols, boundary, name)
     G = nx.Graph(name=name)
     for r in range(rows):
         for c in range(cols):
@@ -156,14 +216,15 @@ def square_lattice(rows, cols, periodic=False, sparse=False):
                 G.add_edge(node, r * cols + (c + 1) % cols)
             if r + 1 < rows or periodic:
                 G.add_edge(node, ((r + 1) % rows) * cols + c)
-    return G
+    return _finish_lattice(G, "square_lattice", boundary)
 
 
-def _square_sparse(rows, cols, periodic, name):
+def _square_sparse(rows, cols, boundary, name):
     import scipy.sparse as sp  # here, not at import: 0.2 s off `import faultnet`
 
     from faultnet.model.carlson_langer import SparseGraph
 
+    periodic = boundary == "periodic"
     node = np.arange(rows * cols, dtype=np.int64).reshape(rows, cols)
     right = np.roll(node, -1, axis=1) if periodic else node[:, 1:]
     down = np.roll(node, -1, axis=0) if periodic else node[1:, :]
@@ -174,10 +235,15 @@ def _square_sparse(rows, cols, periodic, name):
     n = rows * cols
     ones = np.ones(2 * a.size)
     adj = sp.csr_matrix((ones, (np.concatenate([a, b]), np.concatenate([b, a]))), shape=(n, n))
-    return SparseGraph(adj, name=name)
+    wall = None
+    if boundary == "fixed":
+        wall = 4.0 - np.diff(adj.indptr).astype(np.float64)
+    G = SparseGraph(adj, wall=wall, name=name)
+    G.graph["boundary"] = boundary
+    return G
 
 
-def triangular_lattice(rows, cols, periodic=False):
+def triangular_lattice(rows, cols, periodic=None, *, boundary=None):
     """Triangular lattice of ``rows x cols`` blocks with 6-neighbour springs.
 
     Rows are offset by half a spacing ("odd-r" layout): odd rows are shifted
@@ -187,17 +253,22 @@ def triangular_lattice(rows, cols, periodic=False):
     Parameters
     ----------
     rows, cols : int
-        Lattice size, each ``>= 1``.  When ``periodic``, ``rows`` must be even
+        Lattice size, each ``>= 1``.  When periodic, ``rows`` must be even
         and ``>= 4`` (so the row offsets match across the seam and the rows
         above and below a node differ) and ``cols >= 3``.
     periodic : bool, optional
-        Wrap both directions.  Every node then has degree 6 and there are
-        ``3 * rows * cols`` edges.
+        The older spelling of the boundary: True is ``boundary="periodic"``, False
+        ``boundary="free"`` (or ``"fixed"``, if given too).
+    boundary : {"free", "periodic", "fixed"}, optional
+        ``"free"`` (the default); ``"periodic"``: wrap both directions, every node of
+        degree 6 and ``3 * rows * cols`` edges; ``"fixed"``: the free lattice and node
+        attribute ``wall = 6 - degree`` on every node (see the module's text).
 
     Returns
     -------
     networkx.Graph
-        Node ``r * cols + c`` sits at ``pos = (c + 0.5 * (r % 2), r * sqrt(3) / 2)``.
+        Node ``r * cols + c`` sits at ``pos = (c + 0.5 * (r % 2), r * sqrt(3) / 2)``;
+        ``G.graph["boundary"]`` records the boundary.
 
     Examples
     --------
@@ -208,10 +279,14 @@ def triangular_lattice(rows, cols, periodic=False):
     >>> H = triangular_lattice(4, 3, periodic=True)
     >>> H.number_of_edges(), {d for _, d in H.degree()}
     (36, {6})
+    >>> F = triangular_lattice(3, 3, boundary="fixed")
+    >>> {d + F.nodes[v]["wall"] for v, d in F.degree()}
+    {6}
     """
     rows = check_int("rows", rows)
     cols = check_int("cols", cols)
-    periodic = bool(periodic)
+    boundary = _boundary(periodic, boundary)
+    periodic = boundary == "periodic"
     if periodic and (rows < 4 or rows % 2 or cols < 3):
         raise InvalidParameterError(
             f"periodic triangular_lattice needs an even rows >= 4 and cols >= 3, got "
@@ -219,7 +294,7 @@ def triangular_lattice(rows, cols, periodic=False):
             f"the seam, and smaller sizes would create duplicate edges"
         )
     height = math.sqrt(3.0) / 2.0
-    G = nx.Graph(name=_lattice_name("triangular_lattice", rows, cols, periodic))
+    G = nx.Graph(name=_lattice_name("triangular_lattice", rows, cols, boundary))
     for r in range(rows):
         for c in range(cols):
             G.add_node(r * cols + c, pos=(c + 0.5 * (r % 2), r * height))
@@ -238,156 +313,4 @@ def triangular_lattice(rows, cols, periodic=False):
                 c_up = c + dc
                 if 0 <= c_up < cols or periodic:
                     G.add_edge(node, r_up * cols + c_up % cols)
-    return G
-
-
-def percolation_threshold(kind):
-    """Site-percolation threshold of a two-dimensional lattice.
-
-    Parameters
-    ----------
-    kind : {"square", "triangular"}
-        Lattice type.
-
-    Returns
-    -------
-    float
-        ``0.592746`` for the square lattice, ``0.5`` for the triangular one.
-
-    Examples
-    --------
-    >>> from faultnet.graphs.builders import percolation_threshold
-    >>> percolation_threshold("square"), percolation_threshold("triangular")
-    (0.592746, 0.5)
-    """
-    try:
-        return _THRESHOLDS[kind]
-    except (KeyError, TypeError):
-        allowed = ", ".join(repr(k) for k in _THRESHOLDS)
-        raise InvalidParameterError(
-            f"unknown lattice kind {kind!r}; expected one of {allowed}"
-        ) from None
-
-
-def _generator_and_record(rng):
-    """``(generator, seed)``: SPEC 7 ``rng`` and the seed recorded in ``G.graph["seed"]``.
-
-    The record is the int seed or the SeedSequence entropy; None for a Generator.
-    """
-    generator, seq = generator_and_seed(rng)
-    return generator, None if isinstance(rng, np.random.Generator) else seq.entropy
-
-
-def _smallest_label_key(component, order):
-    """Sort key for tie-breaking: smallest label, else earliest in node order."""
-    try:
-        return (0, min(component))
-    except TypeError:
-        return (1, min(order[node] for node in component))
-
-
-def _induced_copy(graph, kept):
-    """New ``nx.Graph`` induced on ``kept`` (in that order), copying attributes."""
-    kept_set = set(kept)
-    result = nx.Graph()
-    result.graph.update(graph.graph)
-    result.add_nodes_from((node, dict(graph.nodes[node])) for node in kept)
-    result.add_edges_from(
-        (u, v, dict(data)) for u in kept for v, data in graph.adj[u].items() if v in kept_set
-    )
-    return result
-
-
-def site_percolation(graph, p, rng=None, keep="largest", prune_isolated=False):
-    """Site-diluted copy of ``graph``: each node is kept with probability ``p``.
-
-    Parameters
-    ----------
-    graph : networkx.Graph
-        Undirected parent graph (for example a lattice from this module).
-    p : float
-        Occupation probability, ``0 <= p <= 1``.
-    rng : None, int, numpy.random.SeedSequence or numpy.random.Generator, optional
-        Source of randomness (SPEC 7).  One uniform number is drawn per node,
-        in the order of ``list(graph.nodes)``, so a fixed seed is reproducible.
-    keep : {"largest", "all"}, optional
-        ``"largest"`` keeps only the largest connected cluster (ties go to the
-        cluster holding the smallest node label); ``"all"`` keeps every
-        occupied node.
-    prune_isolated : bool, optional
-        Drop occupied nodes of degree 0.
-
-    Returns
-    -------
-    networkx.Graph
-        A new graph induced on the kept nodes, with the parent's node labels
-        and node/edge attributes (including ``pos``).  ``G.graph`` records
-        ``"name"``, ``"p"``, ``"keep"``, ``"prune_isolated"`` and ``"seed"``
-        (the int seed, the SeedSequence entropy, or None for a Generator).
-
-    Raises
-    ------
-    InvalidParameterError
-        If ``graph`` is not an undirected networkx graph, ``p`` is outside
-        ``[0, 1]``, ``keep`` is unknown, or no node remains.
-
-    Examples
-    --------
-    >>> from faultnet.graphs.builders import site_percolation, square_lattice
-    >>> L = square_lattice(20, 20)
-    >>> G = site_percolation(L, 0.8, rng=1)
-    >>> import networkx as nx
-    >>> nx.is_connected(G), G.graph["seed"], set(G) <= set(L)
-    (True, 1, True)
-    >>> G.graph["name"]
-    "site_percolation(square_lattice(20, 20), p=0.8, keep='largest')"
-    """
-    if not isinstance(graph, nx.Graph) or graph.is_directed():
-        raise InvalidParameterError(
-            f"graph must be an undirected networkx.Graph, got {type(graph).__name__}"
-        )
-    if isinstance(p, bool | np.bool_) or not isinstance(p, numbers.Real):
-        raise InvalidParameterError(f"p must be a real number in [0, 1], got p={p!r}")
-    p = float(p)
-    if not 0.0 <= p <= 1.0:
-        raise InvalidParameterError(f"p must lie in [0, 1], got p={p!r}")
-    if keep not in _KEEP_VALUES:
-        allowed = ", ".join(repr(k) for k in _KEEP_VALUES)
-        raise InvalidParameterError(f"keep must be one of {allowed}, got keep={keep!r}")
-    prune_isolated = bool(prune_isolated)
-    generator, seed = _generator_and_record(rng)
-
-    nodes = list(graph.nodes)
-    draws = generator.random(len(nodes))
-    occupied = [node for node, u in zip(nodes, draws, strict=True) if u < p]
-    n_total = len(nodes)
-    if not occupied:
-        raise InvalidParameterError(
-            f"no site occupied at p={p!r} on a {n_total}-node graph; increase p"
-        )
-
-    sub = graph.subgraph(occupied)
-    if keep == "largest":
-        order = {node: i for i, node in enumerate(nodes)}
-        components = list(nx.connected_components(sub))
-        biggest = max(len(comp) for comp in components)
-        ties = [comp for comp in components if len(comp) == biggest]
-        chosen = min(ties, key=lambda comp: _smallest_label_key(comp, order))
-        sub = graph.subgraph(chosen)
-    if prune_isolated:
-        sub = graph.subgraph(node for node in sub if sub.degree(node) > 0)
-        if sub.number_of_nodes() == 0:
-            raise InvalidParameterError(
-                f"only isolated sites occupied at p={p!r} on a {n_total}-node graph "
-                f"(prune_isolated=True left nothing); increase p"
-            )
-
-    result = _induced_copy(graph, [node for node in nodes if node in sub])
-    parent = graph.graph.get("name") or f"graph({n_total} nodes)"
-    extra = ", prune_isolated=True" if prune_isolated else ""
-    result.graph["name"] = f"site_percolation({parent}, p={p!r}, keep={keep!r}{extra})"
-    result.graph["p"] = p
-    result.graph["keep"] = keep
-    result.graph["prune_isolated"] = prune_isolated
-    result.graph["seed"] = seed
-    return result
+    return _finish_lattice(G, "triangular_lattice", boundary)

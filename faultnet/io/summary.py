@@ -118,25 +118,23 @@ def events_before(path, t):
     return count
 
 
-def default_transient(times, n_events):
-    """``(transient, rule)``: the events before plate time :data:`TRANSIENT_PLATE_TIME`
-    among plate ``times`` (an iterable of sorted arrays, the run's in order), at most half of
-    ``n_events``; ``rule`` is the sentence that says which applied."""
+def default_transient(times, n_events, t_min=TRANSIENT_PLATE_TIME, what="plate time"):
+    """``(transient, rule)``: the events before ``t_min`` (:data:`TRANSIENT_PLATE_TIME`, or an
+    automaton's drive) among the ``times`` (an iterable of sorted arrays, the run's in order),
+    at most half of ``n_events``; ``rule`` is the sentence that says which applied, naming
+    the time as ``what``."""
     count = 0
     for t in times:
         t = np.asarray(t)
-        count += int(np.searchsorted(t, TRANSIENT_PLATE_TIME))
-        if len(t) and t[-1] >= TRANSIENT_PLATE_TIME:
+        count += int(np.searchsorted(t, t_min))
+        if len(t) and t[-1] >= t_min:
             break
     if count > n_events // 2:  # a short run: fit its second half
         return n_events // 2, (
             f"the first half of the run ({n_events // 2:,} events) is left out of the fits: "
-            f"the run ends before plate time {TRANSIENT_PLATE_TIME:g}, so it may not be in a "
-            "steady state yet"
+            f"the run ends before {what} {t_min:g}, so it may not be in a steady state yet"
         )
-    return count, (
-        f"the {count:,} events before plate time {TRANSIENT_PLATE_TIME:g} are left out of the fits"
-    )
+    return count, f"the {count:,} events before {what} {t_min:g} are left out of the fits"
 
 
 def fit_b_values(M, m_min=None, m_max=None) -> dict:
@@ -256,7 +254,8 @@ def _fmt(x, spec=".3f"):
 def format_stats(md, st) -> str:
     """Human-readable lines for :func:`catalog_stats` output."""
     lines = [
-        f"events      {st['events']:,} (first {md.get('first_event', 0)}); plate time "
+        f"events      {st['events']:,} (first {md.get('first_event', 0)}); "
+        f"{'drive' if md.get('model') == 'ofc' else 'plate time'} "
         f"{_fmt(st['t_first'], '.6g')} .. {_fmt(st['t_last'], '.6g')}",
         f"magnitude   M = ln S in [{_fmt(st['M_min'])}, {_fmt(st['M_max'])}]; largest event "
         f"{st['largest_n_blocks']} blocks",
@@ -288,10 +287,16 @@ def format_metadata(md) -> str:
     if md.get("graph_hash"):
         lines.append(f"graph hash  sha256:{md['graph_hash']}")
     het = "  (per-edge/per-node values in the graph)" if md.get("heterogeneous") else ""
-    lines.append(
-        f"parameters  k={md.get('k')} sigma={md.get('sigma')} alpha={md.get('alpha')} "
-        f"dt={md.get('dt')}{het}"
-    )
+    if md.get("model") == "ofc":
+        lines.append(
+            f"parameters  OFC automaton, k={md.get('k')} alpha={md.get('alpha')} "
+            f"({md.get('update')} topplings){het}"
+        )
+    else:
+        lines.append(
+            f"parameters  k={md.get('k')} sigma={md.get('sigma')} alpha={md.get('alpha')} "
+            f"dt={md.get('dt')}{het}"
+        )
     seed = f"SeedSequence entropy {md.get('seed_entropy')}, spawn key {md.get('seed_spawn_key')}"
     if md.get("graph_seed_entropy") is not None:
         seed += (

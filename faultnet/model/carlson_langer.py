@@ -12,6 +12,14 @@ import numpy as np
 
 from faultnet.exceptions import InvalidParameterError
 from faultnet.model.faults import fault_numbers
+from faultnet.model.springs import (
+    as_float,
+    check_graph,
+    check_k,
+    check_wall,
+    node_values,
+    spring_matrix,
+)
 
 if TYPE_CHECKING:  # scipy.sparse is imported where used: 0.2 s off `import faultnet`
     import scipy.sparse as sp
@@ -31,19 +39,6 @@ def _check_alpha(value, where):
         raise InvalidParameterError(f"alpha must be finite and >= 0; got {value!r}{where}")
 
 
-def _check_k(value, where):
-    if not (math.isfinite(value) and value > 0.0):
-        raise InvalidParameterError(
-            f"spring constant k must be finite and > 0; got {value!r}{where}"
-        )
-
-
-def _as_float(value, name, where=""):
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise InvalidParameterError(f"{name} must be a real number; got {value!r}{where}")
-    return float(value)
-
-
 class SparseGraph:
     """A graph given by a sparse adjacency matrix, for lattices too big for networkx.
 
@@ -52,8 +47,8 @@ class SparseGraph:
     matrix (about 40 bytes per spring).  Blocks are the integers ``0..n-1``.
     In :class:`CarlsonLanger` the spring between ``i`` and ``j`` is
     ``k * A[i, j]`` (the values are multipliers of the model's ``k``; a 0/1
-    pattern gives uniform springs), and the optional per-block ``sigma`` and
-    ``alpha`` arrays play the part of node attributes.
+    pattern gives uniform springs), and the optional per-block ``sigma``,
+    ``alpha`` and ``wall`` arrays play the part of node attributes.
 
     Parameters
     ----------
@@ -61,6 +56,9 @@ class SparseGraph:
         Symmetric, zero diagonal, finite positive values where there is a spring.
     sigma, alpha : array_like, shape (n,), optional
         Per-block values overriding the model's scalars.
+    wall : array_like, shape (n,), optional
+        Frame springs per block (finite, >= 0; see ``boundary="fixed"`` in
+        :mod:`faultnet.graphs.builders`), each of the model's ``k``.
     name : str, optional
         Description used in metadata (``graph.graph["name"]``).
 
@@ -74,7 +72,7 @@ class SparseGraph:
     65.0
     """
 
-    def __init__(self, adjacency, *, sigma=None, alpha=None, name=None):
+    def __init__(self, adjacency, *, sigma=None, alpha=None, wall=None, name=None):
         import scipy.sparse as sp
 
         if not sp.issparse(adjacency):
@@ -104,6 +102,11 @@ class SparseGraph:
         self.adjacency = mat
         self.node_sigma = self._per_block(sigma, "sigma", n)
         self.node_alpha = self._per_block(alpha, "alpha", n)
+        self.node_wall = self._per_block(wall, "wall", n)
+        if self.node_wall is not None:
+            bad = np.flatnonzero(~(np.isfinite(self.node_wall) & (self.node_wall >= 0)))
+            if bad.size:
+                check_wall(float(self.node_wall[bad[0]]), f" at node {int(bad[0])}")
         self.graph = {"name": name or f"SparseGraph({n} nodes, {mat.nnz // 2} springs)"}
 
     @staticmethod
@@ -136,7 +139,10 @@ class CarlsonLanger:
     loading plate ``u`` by a unit spring, and slips against the
     velocity-weakening friction ``phi(v) = (1 - sigma) / (1 + 2 alpha v / (1 - sigma))``
     (node attributes ``sigma`` and ``alpha`` override the scalars).  The
-    force on block ``i`` is ``F_i = sum_j k_ij (x_j - x_i) + (u - x_i)``.
+    force on block ``i`` is ``F_i = sum_j k_ij (x_j - x_i) + (u - x_i) - k wall_i x_i``:
+    a block with the node attribute ``wall`` (a lattice with ``boundary="fixed"``) is
+    tied by ``wall_i`` frame springs of constant ``k`` to a rigid frame at rest at
+    ``x = 0``, where the plate starts (``u = 0``).
 
     Parameters
     ----------
@@ -159,6 +165,8 @@ class CarlsonLanger:
         Weighted graph Laplacian ``diag(sum_j k_ij) - K``.
     sigma_values, alpha_values : numpy.ndarray
         Per-block friction parameters in node order.
+    wall_values : numpy.ndarray
+        Frame springs per block (node attribute ``wall``, 0 where unset), node order.
     faults : list or None
         The fault labels of a network of faults (node attribute ``fault``, set on every
         block or on none), in order of first appearance; None without them.
@@ -183,43 +191,30 @@ class CarlsonLanger:
     adjacency: sp.csr_matrix = field(init=False, repr=False)
     sigma_values: np.ndarray = field(init=False, repr=False)
     alpha_values: np.ndarray = field(init=False, repr=False)
+    wall_values: np.ndarray = field(init=False, repr=False)
     faults: list | None = field(init=False, repr=False, default=None)
     fault_number: np.ndarray | None = field(init=False, repr=False, default=None)
 
     def __post_init__(self):
         g = self.graph
         set_ = object.__setattr__
-        set_(self, "k", _as_float(self.k, "k"))
-        set_(self, "sigma", _as_float(self.sigma, "sigma"))
-        set_(self, "alpha", _as_float(self.alpha, "alpha"))
-        _check_k(self.k, "")
+        set_(self, "k", as_float(self.k, "k"))
+        set_(self, "sigma", as_float(self.sigma, "sigma"))
+        set_(self, "alpha", as_float(self.alpha, "alpha"))
+        check_k(self.k, "")
         _check_sigma(self.sigma, "")
         _check_alpha(self.alpha, "")
         if isinstance(g, SparseGraph):
             self._init_sparse(g)
             return
-        if not isinstance(g, nx.Graph):
-            raise InvalidParameterError(
-                f"graph must be a networkx.Graph or a faultnet.SparseGraph; got {type(g).__name__}"
-            )
-        if g.is_directed() or g.is_multigraph():
-            raise InvalidParameterError(
-                "graph must be an undirected simple nx.Graph (springs are symmetric); "
-                f"got a {type(g).__name__}"
-            )
-        if g.number_of_nodes() == 0:
-            raise InvalidParameterError("graph is empty: it has no blocks (nodes)")
-        loops = list(nx.selfloop_edges(g))
-        if loops:
-            raise InvalidParameterError(
-                f"graph has self-loops (a spring from a block to itself): {loops[:5]}"
-            )
+        check_graph(g)
         nodes = list(g.nodes)
         index = {node: i for i, node in enumerate(nodes)}
         set_(self, "nodes", nodes)
-        set_(self, "adjacency", self._build_adjacency(g, index))
-        set_(self, "sigma_values", self._node_values(g, "sigma", self.sigma, _check_sigma))
-        set_(self, "alpha_values", self._node_values(g, "alpha", self.alpha, _check_alpha))
+        set_(self, "adjacency", spring_matrix(g, index, self.k))
+        set_(self, "sigma_values", node_values(g, "sigma", self.sigma, _check_sigma))
+        set_(self, "alpha_values", node_values(g, "alpha", self.alpha, _check_alpha))
+        set_(self, "wall_values", node_values(g, "wall", 0.0, check_wall))
         faults, number = fault_numbers(g)
         set_(self, "faults", faults)
         set_(self, "fault_number", number)
@@ -238,38 +233,8 @@ class CarlsonLanger:
             if bad.size:
                 check(float(arr[bad[0]]), f" at node {int(bad[0])}")
             set_(self, f"{name}_values", arr)
-
-    def _build_adjacency(self, g, index):
-        import scipy.sparse as sp
-
-        m = g.number_of_edges()
-        rows = np.empty(m, dtype=np.int64)
-        cols = np.empty(m, dtype=np.int64)
-        vals = np.empty(m, dtype=np.float64)
-        for e, (a, b, data) in enumerate(g.edges(data=True)):
-            where = f" on edge ({a!r}, {b!r})"
-            kv = _as_float(data.get("k", self.k), "k", where)
-            _check_k(kv, where)
-            rows[e], cols[e], vals[e] = index[a], index[b], kv
-        n = len(index)
-        mat = sp.coo_matrix(
-            (
-                np.concatenate([vals, vals]),
-                (np.concatenate([rows, cols]), np.concatenate([cols, rows])),
-            ),
-            shape=(n, n),
-        ).tocsr()
-        mat.sort_indices()
-        return mat
-
-    def _node_values(self, g, name, default, check):
-        out = np.empty(g.number_of_nodes(), dtype=np.float64)
-        for i, (node, data) in enumerate(g.nodes(data=True)):
-            where = f" at node {node!r}"
-            value = _as_float(data.get(name, default), name, where)
-            check(value, where)
-            out[i] = value
-        return out
+        wall = np.zeros(n) if g.node_wall is None else g.node_wall.copy()
+        set_(self, "wall_values", wall)
 
     @property
     def n(self) -> int:
@@ -285,13 +250,21 @@ class CarlsonLanger:
         return (sp.diags(deg) - self.adjacency).tocsr()
 
     @property
+    def frame(self) -> np.ndarray:
+        """Stiffness of each block's frame springs, ``k * wall_i`` (zeros without walls)."""
+        return self.k * self.wall_values
+
+    @property
     def stiffness(self) -> np.ndarray:
-        """Total stiffness seen by each block when its neighbours are held: ``1 + sum_j k_ij``."""
-        return 1.0 + np.asarray(self.adjacency.sum(axis=1)).ravel()
+        """Total stiffness seen by each block when its neighbours are held:
+        ``1 + sum_j k_ij + k wall_i``."""
+        base = 1.0 + np.asarray(self.adjacency.sum(axis=1)).ravel()
+        return base + self.frame if np.any(self.wall_values) else base
 
     @cached_property
     def top_stiffness(self) -> float:
-        """Largest eigenvalue of the stiffness matrix ``I + L``, estimated from above.
+        """Largest eigenvalue of the stiffness matrix ``I + L`` (plus the frame springs,
+        ``diag(k wall)``), estimated from above.
 
         It sets the scale of the step inside events (see :mod:`faultnet.model.spectrum`).
         Computed once.
@@ -302,7 +275,7 @@ class CarlsonLanger:
         """
         from faultnet.model.spectrum import top_stiffness
 
-        return top_stiffness(self.adjacency)
+        return top_stiffness(self.adjacency, self.frame if np.any(self.wall_values) else None)
 
     @cached_property
     def block_classes(self) -> np.ndarray:
@@ -318,9 +291,10 @@ class CarlsonLanger:
         return inv.astype(np.int64).ravel()
 
     def forces(self, x, u=0.0) -> np.ndarray:
-        """Spring force ``F_i = sum_j k_ij (x_j - x_i) + (u - x_i)`` on every block."""
+        """Spring force ``F_i = sum_j k_ij (x_j - x_i) + (u - x_i) - k wall_i x_i`` on every
+        block."""
         x = np.asarray(x, dtype=np.float64)
-        return -(self.laplacian @ x) + (u - x)
+        return -(self.laplacian @ x) + (u - x) - self.frame * x
 
     def with_params(self, *, k=None, sigma=None, alpha=None) -> CarlsonLanger:
         """A model on the same graph with some scalar parameters replaced.
@@ -337,7 +311,7 @@ class CarlsonLanger:
     @property
     def params(self) -> dict:
         """Scalar parameters and a description of the graph, for metadata."""
-        return {
+        params = {
             "graph": self.graph.graph.get("name", f"{type(self.graph).__name__}({self.n} nodes)"),
             "n_blocks": self.n,
             "n_springs": int(self.adjacency.nnz // 2),
@@ -350,6 +324,9 @@ class CarlsonLanger:
                 or np.any(self.adjacency.data != self.k)
             ),
         }
+        if np.any(self.wall_values):  # only then: the metadata of other runs stays as it was
+            params["frame_springs"] = float(self.wall_values.sum())
+        return params
 
     def __repr__(self):
         p = self.params

@@ -22,8 +22,11 @@ def graph_hash(model) -> str:
     """SHA-256 (hex) of a model's graph and parameters, in node order.
 
     It covers the node labels, the edges with their spring constants, the
-    per-block sigma and alpha and, on a network of faults, the blocks' faults,
-    so two models hash equal exactly when every run on them is the same.
+    per-block sigma and alpha, the frame springs (``k wall``, only where some block has one,
+    so that the hashes of graphs without walls stay what they were) and, on a network of
+    faults, the blocks' faults, so two models hash equal exactly when every run on them is
+    the same.  An :class:`~faultnet.model.ofc.OFC` automaton hashes its springs, frame
+    springs, update rule and faults under a prefix of its own.
 
     >>> import faultnet
     >>> m = faultnet.CarlsonLanger(faultnet.graphs.ring(5))
@@ -33,23 +36,26 @@ def graph_hash(model) -> str:
     False
     """
     from faultnet.model.carlson_langer import CarlsonLanger
+    from faultnet.model.ofc import OFC
 
-    if not isinstance(model, CarlsonLanger):
+    if not isinstance(model, CarlsonLanger | OFC):
         raise TypeError(
-            "graph_hash needs a CarlsonLanger (build one from the graph); "
+            "graph_hash needs a CarlsonLanger or an OFC (build one from the graph); "
             f"got {type(model).__name__}"
         )
     h = hashlib.sha256()
-    h.update(b"faultnet-graph-v1\0")
+    ofc = isinstance(model, OFC)
+    h.update(
+        b"faultnet-ofc-v1\0" + model.update.encode() + b"\0" if ofc else b"faultnet-graph-v1\0"
+    )
     h.update(json.dumps([_label_key(n) for n in model.nodes]).encode())
     adj = model.adjacency
-    for arr, dtype in (
-        (adj.indptr, "<i8"),
-        (adj.indices, "<i8"),
-        (adj.data, "<f8"),
-        (model.sigma_values, "<f8"),
-        (model.alpha_values, "<f8"),
-    ):
+    arrays = [(adj.indptr, "<i8"), (adj.indices, "<i8"), (adj.data, "<f8")]
+    if not ofc:
+        arrays += [(model.sigma_values, "<f8"), (model.alpha_values, "<f8")]
+    if np.any(model.wall_values):
+        arrays.append((model.frame, "<f8"))
+    for arr, dtype in arrays:
         a = np.ascontiguousarray(np.asarray(arr, dtype=dtype))
         h.update(str(a.size).encode() + b"\0")
         h.update(a.tobytes())

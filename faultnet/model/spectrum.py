@@ -66,13 +66,16 @@ def _round_up(value, digits=3):
     return math.ceil(value / scale) * scale
 
 
-def top_stiffness(adjacency):
-    """Upper estimate of the largest eigenvalue of ``I + L`` for the spring matrix ``adjacency``.
+def top_stiffness(adjacency, frame=None):
+    """Upper estimate of the largest eigenvalue of ``I + L`` for the spring matrix ``adjacency``
+    (of ``I + L + diag(frame)`` with frame springs).
 
     Parameters
     ----------
     adjacency : scipy.sparse.csr_matrix
         Symmetric spring constants ``k_ij`` (zero diagonal).
+    frame : numpy.ndarray, optional
+        Stiffness of each block's frame springs (``k wall_i``); None: no frame.
 
     Returns
     -------
@@ -93,8 +96,13 @@ def top_stiffness(adjacency):
     import scipy.sparse as sp
 
     deg = np.asarray(adjacency.sum(axis=1)).ravel()
-    bound = float(np.max(1.0 + 2.0 * deg))
-    matrix = (sp.diags(1.0 + deg) - adjacency).tocsr()
+    own = 1.0 + deg
+    bound = 1.0 + 2.0 * deg
+    if frame is not None:
+        own = own + np.asarray(frame, dtype=np.float64)
+        bound = bound + np.asarray(frame, dtype=np.float64)
+    bound = float(np.max(bound))
+    matrix = (sp.diags(own) - adjacency).tocsr()
     if matrix.shape[0] <= DENSE_UP_TO:
         top = float(np.linalg.eigvalsh(matrix.toarray())[-1])
     else:

@@ -105,7 +105,16 @@ IDENTITY = (
 )
 #: the value of an identity field that files written before it existed lack
 IDENTITY_DEFAULTS = {"record_slips": False}
-_COUNTERS = {"wall_time_s": float, "n_steps": int, "block_steps": int, "runs": int}
+_COUNTERS = {
+    "wall_time_s": float,
+    "n_steps": int,
+    "block_steps": int,
+    "n_topplings": int,
+    "n_generations": int,
+    "runs": int,
+}
+#: counters that checkpoints written before them lack (read as 0)
+_NEWER_COUNTERS = ("n_topplings", "n_generations")
 #: a counter's name in checkpoints written by faultnet 0.2 and 0.3.0 development versions
 _FORMER_NAMES = {"runs": "sessions"}
 
@@ -127,22 +136,23 @@ def side_chunk_path(wd, name, i) -> str:
 
 def side_tables(model, record_slips) -> tuple:
     """The side tables a run of ``model`` writes: the per-block slips where ``record_slips``,
-    the per-fault slips on a network of faults."""
+    the per-fault slips on a network of faults (of blocks: an automaton's topplings are not
+    summed per fault)."""
+    per_fault = model.faults is not None and model.params.get("model") != "ofc"
     return tuple(
-        name
-        for name, wanted in zip(SIDE_TABLES, (record_slips, model.faults is not None), strict=True)
-        if wanted
+        name for name, wanted in zip(SIDE_TABLES, (record_slips, per_fault), strict=True) if wanted
     )
 
 
 def run_identity(model, n_events, dt, options, seq, record_slips=False) -> dict:
     """What makes two runs the same run (compared by :func:`mismatch` on resume)."""
     from faultnet.model.identity import graph_hash
+    from faultnet.runs.models import options_record
 
     return {
         "n_events": int(n_events),
         "dt": float(dt),
-        "options": options.to_dict(),
+        "options": options_record(model, options),
         "seed_entropy": seq.entropy,
         "seed_spawn_key": list(seq.spawn_key),
         "graph_hash": graph_hash(model),
@@ -253,7 +263,9 @@ def load_checkpoint(path) -> Checkpoint:
             counters = {
                 name: kind(data[name if name in data.files else _FORMER_NAMES.get(name, name)])
                 for name, kind in _COUNTERS.items()
+                if name in data.files or name not in _NEWER_COUNTERS
             }
+            counters.update({name: 0 for name in _NEWER_COUNTERS if name not in counters})
             sha = [str(h) for h in data["chunk_sha256"]]
             sides = {
                 name: [str(h) for h in data[f"{name}_sha256"]]

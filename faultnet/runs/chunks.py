@@ -47,6 +47,15 @@ from faultnet.runs.checkpoint import (
     side_chunk_path,
     side_tables,
 )
+from faultnet.runs.models import (
+    compiling_label,
+    model_metadata,
+    new_simulator,
+    random_start,
+    time_name,
+    transient_time,
+    work_counters,
+)
 
 __all__ = ["ChunkSink", "RunReport", "run_loop", "write_failure"]
 
@@ -213,10 +222,8 @@ def _open_run(wd, identity, extra, stored):
 
 
 def _final_metadata(model, options, identity, first_md, counters, extra, transient, chunk_events):
-    from faultnet.solver.wrap import run_metadata
-
     seq = np.random.SeedSequence(identity["seed_entropy"], spawn_key=identity["seed_spawn_key"])
-    md = run_metadata(model, options, identity["dt"], seq)
+    md = model_metadata(model, options, identity["dt"], seq)
     md.update(
         format=CATALOG_FORMAT,
         format_version=FORMAT_VERSION,
@@ -225,8 +232,7 @@ def _final_metadata(model, options, identity, first_md, counters, extra, transie
         initial_state=first_md.get("initial_state", "random"),
         record_slips=bool(identity.get("record_slips", False)),
         wall_time_s=counters["wall_time_s"],
-        n_steps=counters["n_steps"],
-        block_steps=counters["block_steps"],
+        **{key: counters[key] for key in work_counters(model)},
         graph_hash=identity["graph_hash"],
         transient=int(transient[0]),
         chunk_events=int(chunk_events),
@@ -247,31 +253,30 @@ def _final_metadata(model, options, identity, first_md, counters, extra, transie
     return md
 
 
-def _transient(transient, n_events, sink, wd, n_chunks):
+def _transient(transient, n_events, sink, wd, n_chunks, model):
     """``(events, rule)`` left out of b fits: as given, or by the default rule (None)."""
     if transient is not None:
         return int(transient), None
     from faultnet.io.summary import default_transient
 
+    rule = dict(t_min=transient_time(model), what=time_name(model))
     if wd is None:
-        return default_transient(sink.times, n_events)
+        return default_transient(sink.times, n_events, **rule)
     columns = (pq.read_table(chunk_path(wd, i), columns=["t"]) for i in range(n_chunks))
     try:
-        return default_transient((c.column(0).to_numpy() for c in columns), n_events)
+        return default_transient((c.column(0).to_numpy() for c in columns), n_events, **rule)
     except (OSError, pa.ArrowException) as exc:
         raise CatalogError(f"cannot read the plate times of the chunks in {wd}: {exc}") from exc
 
 
 def _simulator(model, seq, options, ck, first_md, wd, record_slips):
-    """The Simulator of the run: from the seed, or from the checkpoint's state.  Every
+    """The simulator of the run: from the seed, or from the checkpoint's state.  Every
     per-block slip is kept (the chunks bound the memory), never truncated."""
-    from faultnet.solver.simulator import Simulator
-
     slips = dict(record_slips=record_slips, max_slip_rows=_ALL_ROWS)
     if ck.state is not None:
-        return Simulator(model, x0=ck.state, options=options, **slips)
-    sim = Simulator(model, rng=seq, options=options, **slips)
-    first_md["initial_state"] = "random U[0, 0.01)"
+        return new_simulator(model, x0=ck.state, options=options, **slips)
+    sim = new_simulator(model, rng=seq, options=options, **slips)
+    first_md["initial_state"] = random_start(model)
     if wd is not None:
         atomic_write_json(os.path.join(wd, "run.json"), first_md)
     return sim
@@ -287,7 +292,7 @@ def _advance(sim, ck, sink, bar, *, n_events, chunk_events, interval, on_commit)
         sink.add(res)
         ck.state, ck.rows = sim.state, ck.rows + n_call
         loop_s = float(res.metadata["wall_time_s"])
-        for key in ("n_steps", "block_steps"):
+        for key in work_counters(sim.model):
             ck.counters[key] += int(res.metadata[key])
         ck.counters["wall_time_s"] += loop_s
         bar.update(n_call)
@@ -319,9 +324,7 @@ def run_loop(*, model, n_events, wd, identity, seq, options, chunk_events, inter
     sink = ChunkSink(wd, first_md, ck.rows, tables)
     sim = _simulator(model, seq, options, ck, first_md, wd, record_slips and wd is not None)
     if progress is not False and sim.compiles:  # a pause of seconds that must not look hung
-        from faultnet.solver.simulator import COMPILING_LABEL
-
-        tqdm.write(COMPILING_LABEL, file=sys.stderr)
+        tqdm.write(compiling_label(model), file=sys.stderr)
     bar = tqdm(total=n_events, initial=ck.rows, unit="ev", desc=desc or model.params["graph"],
                disable=(None if progress is None else not progress), dynamic_ncols=True,
                smoothing=0.1)  # fmt: skip
@@ -337,7 +340,7 @@ def run_loop(*, model, n_events, wd, identity, seq, options, chunk_events, inter
                 shutil.rmtree(wd)
         raise
     bar.close()
-    transient = _transient(transient, n_events, sink, wd, ck.n_chunks)
+    transient = _transient(transient, n_events, sink, wd, ck.n_chunks, model)
     md = _final_metadata(
         model, options, identity, first_md, ck.counters, extra, transient, chunk_events
     )

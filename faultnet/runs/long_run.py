@@ -56,6 +56,7 @@ from faultnet.runs.checkpoint import (
     verify_chunks,
 )
 from faultnet.runs.chunks import RunReport, run_loop, write_failure
+from faultnet.runs.models import check_model, job_options, run_step
 
 __all__ = ["LongRun", "RunReport", "simulate_to_parquet"]
 
@@ -84,7 +85,7 @@ def simulate_to_parquet(
 
     Parameters
     ----------
-    model : CarlsonLanger
+    model : CarlsonLanger or OFC
     n_events : int
     out : str, os.PathLike or None
         Catalog file to write, a name ending in ``.parquet``.  None runs without
@@ -93,10 +94,10 @@ def simulate_to_parquet(
         Seed of the initial state (SPEC 7), recorded in the metadata.  On
         ``resume`` None means "the seed of the checkpoint".
     dt : float, optional
-        Integration step (shortcut for ``options.dt``).
+        Integration step (shortcut for ``options.dt``; not for an OFC model).
     options : RunOptions, dict or None
         The run's numerical choices; part of the run's identity, so a resume
-        with other options is refused.
+        with other options is refused.  An OFC model takes none.
     chunk_events : int
         Events per checkpoint chunk: memory is O(N + chunk_events).
     checkpoint_interval : float
@@ -115,7 +116,8 @@ def simulate_to_parquet(
         Progress bar with events and plate time (None: on a terminal).
     transient : int or None
         Events to leave out of b-value fits; recorded in the metadata.  None applies the
-        default rule of ``faultnet simulate``: the events before plate time 2, at most half
+        default rule of ``faultnet simulate``: the events before plate time 2 (an OFC
+        automaton: before the drive ``20 sqrt(N)``, :mod:`faultnet.runs.models`), at most half
         the run (:func:`faultnet.io.summary.default_transient`), counted when the run ends and
         recorded with the rule (``transient_rule``).
     metadata : dict, optional
@@ -158,7 +160,7 @@ def simulate_to_parquet(
         "give an output file (out=..., --out FILE): it is written in chunks",
     )
     seq = seed_sequence(rng)
-    step = job["options"].step(model)
+    step = run_step(model, job["options"])
     identity = run_identity(model, job["n_events"], step, job["options"], seq)
     _, md, sink = run_loop(wd=None, seq=seq, resume_point=None, stored=None, identity=identity,
                            **job)  # fmt: skip
@@ -248,7 +250,7 @@ class LongRun:
             rng = self.stored_seed()
         seq = seed_sequence(rng)
         model, n_events, options = job["model"], job["n_events"], job["options"]
-        identity = run_identity(model, n_events, options.step(model), options, seq,
+        identity = run_identity(model, n_events, run_step(model, options), options, seq,
                                 job["record_slips"])  # fmt: skip
         start = self._start_or_resume(identity, resume)
         if isinstance(start, RunReport):
@@ -382,9 +384,7 @@ class LongRun:
         run = dict(identity, format=RUN_FORMAT, created=md.get("created"), extra=extra)
         run["initial_state"] = md.get("initial_state", "given")
         atomic_write_json(os.path.join(wd, "run.json"), run)
-        counters = {
-            key: md.get(key, 0) for key in ("wall_time_s", "n_steps", "block_steps", "runs")
-        }
+        counters = {key: md.get(key, 0) for key in Checkpoint(None).counters}
         shas = {name: [sha256_file(side_chunk_path(wd, name, 0))] for name in sides}
         ck = Checkpoint(state, md["n_events"], 1, counters, [sha256_file(chunk_path(wd, 0))],
                         shas)  # fmt: skip
@@ -396,11 +396,7 @@ def _job(model, n_events, *, dt=None, options=None, chunk_events=100_000,
          checkpoint_interval=60.0, transient=0, progress=None, metadata=None, desc=None,
          on_commit=None, record_slips=False):  # fmt: skip
     """The checked arguments of :func:`simulate_to_parquet`, as keywords of the run loop."""
-    from faultnet.model.carlson_langer import CarlsonLanger
-    from faultnet.solver.engine import run_options
-
-    if not isinstance(model, CarlsonLanger):
-        raise InvalidParameterError(f"model must be a CarlsonLanger; got {type(model).__name__}")
+    check_model(model)
     if transient is not None:
         transient = check_int("transient", transient, minimum=0)
     interval = float(checkpoint_interval)
@@ -411,7 +407,7 @@ def _job(model, n_events, *, dt=None, options=None, chunk_events=100_000,
     return dict(
         model=model,
         n_events=check_int("n_events", n_events),
-        options=run_options(options, dt),
+        options=job_options(model, options, dt, record_slips),
         chunk_events=check_int("chunk_events", chunk_events),
         interval=interval,
         transient=transient,

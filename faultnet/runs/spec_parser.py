@@ -19,14 +19,16 @@ __all__ = ["GRAPH_SPEC_FORMS", "GraphSpec", "parse_graph_spec"]
 GRAPH_SPEC_FORMS = (
     "chain:N                  e.g. chain:100",
     "ring:N                   e.g. ring:2000",
-    "square:RxC[:periodic]    e.g. square:150x150:periodic (square:L means LxL)",
-    "triangular:RxC[:periodic]  e.g. triangular:150x150",
-    "percolation:LATTICE:RxC[:periodic]:p=P[:largest|:all][:prune][:seed=S]"
+    "square:RxC[:periodic|:fixed]  e.g. square:150x150:periodic (square:L means LxL)",
+    "triangular:RxC[:periodic|:fixed]  e.g. triangular:150x150",
+    "percolation:LATTICE:RxC[:periodic|:fixed]:p=P[:largest|:all][:prune][:seed=S]"
     "  e.g. percolation:square:150x150:p=0.5927:largest (p=pc: the threshold)",
     "file:PATH or PATH.graphml / PATH.json  a GraphML or node-link JSON graph file",
 )
 
 _GRAPH_FILE_SUFFIXES = (".graphml", ".json")
+#: a lattice's boundary tokens (``open`` is the older name of ``free``)
+_BOUNDARY_TOKENS = ("periodic", "fixed", "free", "open")
 
 
 def _spec_error(spec, why):
@@ -45,6 +47,10 @@ class GraphSpec:
     size : tuple of int
         ``(n,)`` for chains and rings, ``(rows, cols)`` for lattices, ``()`` for files.
     periodic : bool
+    fixed : bool
+        A lattice with ``boundary="fixed"`` (frame springs at its edge; see
+        :func:`faultnet.graphs.square_lattice`).  Neither periodic nor fixed: a free boundary
+        (the token ``free``, or the older ``open``).
     lattice : str or None
         ``square`` / ``triangular`` for percolation.
     p : float or None
@@ -62,6 +68,7 @@ class GraphSpec:
     kind: str
     size: tuple = ()
     periodic: bool = False
+    fixed: bool = False
     lattice: str | None = None
     p: float | None = None
     keep: str = "largest"
@@ -76,13 +83,19 @@ class GraphSpec:
         return self.kind == "percolation" and self.seed is None
 
     @property
+    def boundary(self) -> str:
+        """The lattice's boundary: ``"periodic"``, ``"fixed"`` or ``"free"``."""
+        return "periodic" if self.periodic else "fixed" if self.fixed else "free"
+
+    @property
     def canonical(self) -> str:
         """The spec in normal form (what is recorded in catalog metadata)."""
         if self.kind in ("chain", "ring"):
             return f"{self.kind}:{self.size[0]}"
         if self.kind == "file":
             return f"file:{self.path}"
-        dims = f"{self.size[0]}x{self.size[1]}" + (":periodic" if self.periodic else "")
+        tail = {"periodic": ":periodic", "fixed": ":fixed", "free": ""}[self.boundary]
+        dims = f"{self.size[0]}x{self.size[1]}" + tail
         if self.kind in ("square", "triangular"):
             return f"{self.kind}:{dims}"
         out = f"percolation:{self.lattice}:{dims}:p={self.p!r}:{self.keep}"
@@ -148,13 +161,18 @@ def parse_graph_spec(spec) -> GraphSpec:
         return GraphSpec(kind=kind, size=(_int_token(spec, args[0], "the size"),), text=spec)
     if kind in ("square", "triangular"):
         if not args or len(args) > 2:
-            raise _spec_error(spec, f"{kind} takes ROWSxCOLS and optionally :periodic")
-        periodic = False
+            raise _spec_error(
+                spec, f"{kind} takes ROWSxCOLS and optionally a boundary, :periodic or :fixed"
+            )
+        periodic = fixed = False
         if len(args) == 2:
-            if args[1].lower() not in ("periodic", "open"):
-                raise _spec_error(spec, f"unknown option {args[1]!r}; allowed: periodic, open")
-            periodic = args[1].lower() == "periodic"
-        return GraphSpec(kind=kind, size=_dims(spec, args[0]), periodic=periodic, text=spec)
+            if args[1].lower() not in _BOUNDARY_TOKENS:
+                raise _spec_error(
+                    spec, f"unknown option {args[1]!r}; allowed: {', '.join(_BOUNDARY_TOKENS)}"
+                )
+            periodic, fixed = args[1].lower() == "periodic", args[1].lower() == "fixed"
+        size = _dims(spec, args[0])
+        return GraphSpec(kind=kind, size=size, periodic=periodic, fixed=fixed, text=spec)
     if kind == "percolation":
         return _parse_percolation(spec, args)
     if os.path.sep in spec or os.path.exists(spec):
@@ -173,11 +191,11 @@ def _parse_percolation(spec, args):
             spec, f"percolation lattice must be square or triangular, got {args[0]!r}"
         )
     size = _dims(spec, args[1])
-    periodic, keep, prune, p, seed = False, "largest", False, None, None
+    periodic, fixed, keep, prune, p, seed = False, False, "largest", False, None, None
     for token in args[2:]:
         low = token.lower()
-        if low in ("periodic", "open"):
-            periodic = low == "periodic"
+        if low in _BOUNDARY_TOKENS:
+            periodic, fixed = low == "periodic", low == "fixed"
         elif low in ("largest", "all"):
             keep = low
         elif low == "prune":
@@ -200,8 +218,8 @@ def _parse_percolation(spec, args):
         else:
             raise _spec_error(
                 spec,
-                f"unknown percolation option {token!r}; allowed: periodic, p=P, largest, all, "
-                "prune, seed=S",
+                f"unknown percolation option {token!r}; allowed: periodic, fixed, p=P, largest, "
+                "all, prune, seed=S",
             )
     if p is None:
         raise _spec_error(spec, "percolation needs p=P (a probability, or p=pc)")
@@ -209,6 +227,7 @@ def _parse_percolation(spec, args):
         kind="percolation",
         size=size,
         periodic=periodic,
+        fixed=fixed,
         lattice=lattice,
         p=p,
         keep=keep,

@@ -29,7 +29,17 @@ from faultnet.solver.options import RunOptions
 __all__ = ["run_from_spec"]
 
 # the values of a run that run_from_spec records and a resume takes over
-_REQUEST_KEYS = ("graph", "n_events", "k", "sigma", "alpha", "dt", "transient")
+_REQUEST_KEYS = (
+    "graph",
+    "n_events",
+    "k",
+    "sigma",
+    "alpha",
+    "dt",
+    "transient",
+    "model",
+    "ofc_alpha",
+)
 
 
 def run_from_spec(
@@ -53,6 +63,8 @@ def run_from_spec(
     extra=None,
     on_commit=None,
     record_slips=None,
+    model=None,
+    ofc_alpha=None,
 ) -> RunReport:
     """:func:`~faultnet.runs.long_run.simulate_to_parquet` for a graph spec.
 
@@ -76,6 +88,11 @@ def run_from_spec(
     record_slips : bool or None
         Write the per-block slips next to the catalog (:func:`faultnet.read_slips`); None
         is False, or on ``resume`` the stored choice.
+    model : {"carlson-langer", "ofc"} or None
+        The model to build (:func:`faultnet.runs.specs.build_model`); None is the
+        Carlson-Langer model, or on ``resume`` the stored one.
+    ofc_alpha : float, optional
+        The OFC automaton's conservation parameter (:meth:`faultnet.OFC.from_alpha`).
     chunk_events, checkpoint_interval, transient, resume, force, extend, progress, on_commit
         As for :func:`~faultnet.runs.long_run.simulate_to_parquet`.
 
@@ -89,7 +106,8 @@ def run_from_spec(
         When a value given on ``resume`` differs from the stored request, or a
         graph or the number of events is missing.
     """
-    given = dict(zip(_REQUEST_KEYS, (graph, n_events, k, sigma, alpha, dt, transient), strict=True))
+    values = (graph, n_events, k, sigma, alpha, dt, transient, model, ofc_alpha)
+    given = dict(zip(_REQUEST_KEYS, values, strict=True))
     job = dict(options=options, seed=seed, extra=extra, progress=progress, on_commit=on_commit)
     job.update(chunk_events=chunk_events, checkpoint_interval=checkpoint_interval)
     job["record_slips"] = record_slips
@@ -114,10 +132,13 @@ def _run(run, given, *, options, seed, extra, **job):
         raise InvalidParameterError("the number of events is required (--events N)")
     seq = seed_sequence(seed)
     model = build_model(
-        given["graph"], k=given["k"], sigma=given["sigma"], alpha=given["alpha"], rng=seq
-    )
+        given["graph"], k=given["k"], sigma=given["sigma"], alpha=given["alpha"], rng=seq,
+        model=given["model"], ofc_alpha=given["ofc_alpha"],
+    )  # fmt: skip
     request = {key: given[key] for key in ("graph", "n_events", "k", "sigma", "alpha", "dt")}
     request["transient"] = given["transient"]
+    if given["model"] not in (None, "carlson-langer"):  # requests of 0.2 name no model
+        request.update(model=given["model"], ofc_alpha=given["ofc_alpha"])
     md = {"request": request}
     md.update(extra or {})
     args = dict(dt=given["dt"], options=options, transient=given["transient"], metadata=md)
@@ -152,7 +173,8 @@ def _take_stored(given, options, seed, run, extend=False):
     for key, value in request.items():
         if given.get(key) is None:
             given[key] = value
-    if options is None and isinstance(stored.get("options"), dict):
+    automaton = (given.get("model") or request.get("model")) == "ofc"  # it has no RunOptions
+    if options is None and isinstance(stored.get("options"), dict) and not automaton:
         options = RunOptions.from_dict(stored["options"])
     if seed is None:
         seed = run.stored_seed()
@@ -160,7 +182,7 @@ def _take_stored(given, options, seed, run, extend=False):
 
 
 def _differs(key, a, b):
-    if key in ("k", "sigma", "alpha", "dt"):
+    if key in ("k", "sigma", "alpha", "dt", "ofc_alpha"):
         try:
             return not math.isclose(float(a), float(b), rel_tol=0.0, abs_tol=0.0)
         except (TypeError, ValueError):

@@ -5,9 +5,10 @@ sweep files::
 
     chain:N                      open chain of N blocks
     ring:N                       periodic ring of N blocks (N >= 3)
-    square:RxC[:periodic]        square lattice, R rows x C columns (square:L = LxL)
-    triangular:RxC[:periodic]    triangular lattice
-    percolation:LATTICE:RxC[:periodic]:p=P[:largest|:all][:prune][:seed=S]
+    square:RxC[:periodic|:fixed] square lattice, R rows x C columns (square:L = LxL);
+                                 a free boundary, or periodic, or fixed (frame springs)
+    triangular:RxC[:periodic|:fixed]  triangular lattice
+    percolation:LATTICE:RxC[:periodic|:fixed]:p=P[:largest|:all][:prune][:seed=S]
                                  site-diluted square or triangular lattice; P is a
                                  probability or ``pc`` (the lattice's threshold)
     file:PATH, PATH.graphml, PATH.json
@@ -52,6 +53,8 @@ from faultnet.runs.spec_parser import GRAPH_SPEC_FORMS, GraphSpec, parse_graph_s
 
 __all__ = [
     "DEFAULT_PARAMS",
+    "MODELS",
+    "OFC_DEFAULT_K",
     "GRAPH_SPEC_FORMS",
     "GraphSpec",
     "GraphSpecError",
@@ -64,6 +67,11 @@ __all__ = [
 
 #: model defaults used when neither the caller nor the graph file sets a value
 DEFAULT_PARAMS = {"k": 16.0, "sigma": 0.01, "alpha": 1.0}
+#: the models a spec run builds: ``--model`` of ``faultnet simulate``, ``model`` of a sweep
+MODELS = ("carlson-langer", "ofc")
+#: the OFC automaton's spring constant where none is given (alpha = 0.2 on a fixed square
+#: lattice)
+OFC_DEFAULT_K = 1.0
 
 
 def graph_seed(seq):
@@ -80,11 +88,11 @@ def graph_seed(seq):
 SPARSE_LATTICE_BLOCKS = 250_000
 
 
-def _lattice(kind, rows, cols, periodic, sparse_ok=False):
+def _lattice(kind, rows, cols, boundary, sparse_ok=False):
     if kind == "square":
         sparse = sparse_ok and rows * cols >= SPARSE_LATTICE_BLOCKS
-        return graphs.square_lattice(rows, cols, periodic=periodic, sparse=sparse)
-    return graphs.triangular_lattice(rows, cols, periodic=periodic)
+        return graphs.square_lattice(rows, cols, sparse=sparse, boundary=boundary)
+    return graphs.triangular_lattice(rows, cols, boundary=boundary)
 
 
 def build_graph(spec, rng=None):
@@ -111,9 +119,9 @@ def build_graph(spec, rng=None):
         elif gs.kind == "ring":
             G = graphs.ring(gs.size[0])
         elif gs.kind in ("square", "triangular"):
-            G = _lattice(gs.kind, *gs.size, gs.periodic, sparse_ok=True)
+            G = _lattice(gs.kind, *gs.size, gs.boundary, sparse_ok=True)
         elif gs.kind == "percolation":
-            parent = _lattice(gs.lattice, *gs.size, gs.periodic)
+            parent = _lattice(gs.lattice, *gs.size, gs.boundary)
             if gs.seed is not None:
                 seq = np.random.SeedSequence(gs.seed)
             else:
@@ -194,17 +202,34 @@ def _graph_param(G, name):
     return value
 
 
-def build_model(spec, *, k=None, sigma=None, alpha=None, rng=None):
-    """Build a :class:`faultnet.CarlsonLanger` model from a graph spec.
+def build_model(spec, *, k=None, sigma=None, alpha=None, rng=None, model=None, ofc_alpha=None):
+    """Build a :class:`faultnet.CarlsonLanger` model, or an :class:`faultnet.OFC` automaton,
+    from a graph spec.
 
     ``k``, ``sigma``, ``alpha``: explicit values win, then graph-level
-    attributes of a graph file, then :data:`DEFAULT_PARAMS`.
+    attributes of a graph file, then :data:`DEFAULT_PARAMS`.  ``model="ofc"`` builds the
+    automaton: with ``ofc_alpha`` (:meth:`faultnet.OFC.from_alpha`) or ``k`` (default: the
+    graph file's, else :data:`OFC_DEFAULT_K`); ``sigma`` and ``alpha`` do not apply to it.
 
     >>> build_model("ring:10", alpha=2.0).alpha
     2.0
+    >>> build_model("square:8x8:fixed", model="ofc", ofc_alpha=0.2).k
+    1.0
     """
     from faultnet.model.carlson_langer import CarlsonLanger, SparseGraph
 
+    model = MODELS[0] if model is None else model
+    if model not in MODELS:
+        raise InvalidParameterError(
+            f"model must be one of {', '.join(map(repr, MODELS))}; got {model!r}"
+        )
+    if model == "ofc":
+        return _build_ofc(spec, k, sigma, alpha, rng, ofc_alpha)
+    if ofc_alpha is not None:
+        raise InvalidParameterError(
+            "ofc_alpha (--ofc-alpha) is the OFC automaton's; give model='ofc' (--model ofc), "
+            "or alpha (--alpha) for the Carlson-Langer friction"
+        )
     G = spec if isinstance(spec, (nx.Graph, SparseGraph)) else build_graph(spec, rng=rng)
     params = {}
     for name, given in (("k", k), ("sigma", sigma), ("alpha", alpha)):
@@ -212,3 +237,27 @@ def build_model(spec, *, k=None, sigma=None, alpha=None, rng=None):
             given = _graph_param(G, name)
         params[name] = DEFAULT_PARAMS[name] if given is None else given
     return CarlsonLanger(G, **params)
+
+
+def _build_ofc(spec, k, sigma, alpha, rng, ofc_alpha):
+    from faultnet.model.carlson_langer import SparseGraph
+    from faultnet.model.ofc import OFC
+
+    given = [name for name, value in (("sigma", sigma), ("alpha", alpha)) if value is not None]
+    if given:
+        raise InvalidParameterError(
+            f"{' and '.join(given)} (--{' and --'.join(given)}) are the Carlson-Langer model's "
+            "friction: the OFC automaton has none; its conservation is ofc_alpha "
+            "(--ofc-alpha) or k (--k)"
+        )
+    if k is not None and ofc_alpha is not None:
+        raise InvalidParameterError(
+            "give the OFC automaton k (--k) or ofc_alpha (--ofc-alpha), not both: "
+            "ofc_alpha = k / (q k + 1) on a graph of coordination q"
+        )
+    G = spec if isinstance(spec, (nx.Graph, SparseGraph)) else build_graph(spec, rng=rng)
+    if ofc_alpha is not None:
+        return OFC.from_alpha(G, ofc_alpha)
+    if k is None:
+        k = _graph_param(G, "k")
+    return OFC(G, k=OFC_DEFAULT_K if k is None else k)

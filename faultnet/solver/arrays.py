@@ -53,6 +53,7 @@ __all__ = [
     "SLIP_RESOLUTION",
     "X0_AMPLITUDE",
     "KernelArrays",
+    "catalog_state",
     "initial_state",
     "position_limit",
     "trace_indices",
@@ -160,7 +161,7 @@ def _kernels():
     return _kernels
 
 
-def _catalog_state(model, x0):
+def catalog_state(model, x0):
     """The final state of a catalog (a path or a read catalog) run on ``model``'s graph."""
     from faultnet.io.catalog_file import read_metadata, read_state
     from faultnet.model.identity import graph_hash
@@ -182,7 +183,7 @@ def initial_state(model, x0, rng):
     if isinstance(x0, SimulationResult):
         x0 = x0.state
     elif isinstance(x0, (str, os.PathLike)) or (hasattr(x0, "path") and hasattr(x0, "events")):
-        x0 = _catalog_state(model, x0)
+        x0 = catalog_state(model, x0)
     if isinstance(x0, State):
         z = _real_array("x0.z", x0.z)
         if z.shape != (model.n,):
@@ -291,6 +292,7 @@ class KernelArrays:
             2.0 * model.alpha_values / oms,
             self.nbr,
             model.fault_number,
+            model.frame,
         )
         self.ctrl[CTRL_DT] = dt
         self.kernel = getattr(_kernels(), self.options.entry(model))

@@ -10,6 +10,8 @@ from __future__ import annotations
 import numpy as np
 
 from faultnet._validate import check_int
+from faultnet.exceptions import InvalidParameterError
+from faultnet.model.ofc import OFC
 from faultnet.model.state import State
 from faultnet.solver.options import RunOptions
 from faultnet.solver.result import SimulationResult
@@ -42,16 +44,20 @@ def simulate(
     trace_nodes=None,
     max_trace_rows=1_000_000,
     max_slip_rows=50_000_000,
+    max_topplings=None,
 ) -> SimulationResult:
-    """Run ``n_events`` slip events of a Carlson-Langer model.
+    """Run ``n_events`` slip events of a Carlson-Langer model, or avalanches of an OFC automaton.
 
     A one-chunk :class:`Simulator`:
     ``Simulator(model, x0=x0, rng=rng, options=options).advance(n_events)``.  Every argument
-    after ``n_events`` is a keyword.
+    after ``n_events`` is a keyword.  An :class:`~faultnet.OFC` model runs in an
+    :class:`~faultnet.solver.ofc.OFCSimulator` instead: ``x0`` (initial forces in [0, 1),
+    None: uniform with ``rng``, or a state to continue), ``rng``, ``progress`` and
+    ``max_topplings`` apply, the integration and recording options do not.
 
     Parameters
     ----------
-    model : CarlsonLanger
+    model : CarlsonLanger or OFC
     n_events : int
         Number of events (> 0).
     x0 : array_like, State, SimulationResult, Catalog, path or None
@@ -87,6 +93,8 @@ def simulate(
     trace_nodes : graph node, or sequence of graph nodes, optional
         Record ``x(t)``, ``v(t)`` of these blocks at every integration step
         inside events (``result.traces``), at most ``max_trace_rows`` steps.
+    max_topplings : int, optional
+        OFC only: the most topplings one avalanche may take (None: no limit).
 
     Returns
     -------
@@ -103,6 +111,34 @@ def simulate(
     >>> more.events["event"].tolist()
     [3, 4]
     """
+    if isinstance(model, OFC):
+        from faultnet.solver.ofc import simulate_ofc
+
+        given = {
+            "dt": dt is not None,
+            "options": options is not None,
+            "method": method is not None,
+            "rtol": rtol is not None,
+            "record_slips": bool(record_slips),
+            "record_profiles": bool(record_profiles),
+            "trace_nodes": trace_nodes is not None,
+            "max_trace_rows": max_trace_rows != 1_000_000,
+            "max_slip_rows": max_slip_rows != 50_000_000,
+        }
+        if any(given.values()):
+            name = next(k for k, v in given.items() if v)
+            raise InvalidParameterError(
+                f"{name} does not apply to an OFC model (an automaton has no integration, "
+                "slips, profiles or traces); leave it out. An OFC run takes x0, rng, progress "
+                "and max_topplings"
+            )
+        return simulate_ofc(
+            model, n_events, x0=x0, rng=rng, progress=progress, max_topplings=max_topplings
+        )
+    if max_topplings is not None:
+        raise InvalidParameterError(
+            "max_topplings applies to an OFC model only; leave it out for a Carlson-Langer model"
+        )
     n_events = check_int("n_events", n_events)
     sim = Simulator(
         model,

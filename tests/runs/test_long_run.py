@@ -123,7 +123,7 @@ def test_on_commit_sees_every_chunk_and_can_stop_the_run(tmp_path):
 def test_bad_arguments_are_named(tmp_path):
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(10))
     out = tmp_path / "x.parquet"
-    with pytest.raises(InvalidParameterError, match="model must be a CarlsonLanger; got Graph"):
+    with pytest.raises(InvalidParameterError, match="must be a CarlsonLanger or an OFC; got Graph"):
         simulate_to_parquet(model.graph, 10, out)
     with pytest.raises(InvalidParameterError, match="checkpoint_interval must be >= 0 s"):
         simulate_to_parquet(model, 10, out, checkpoint_interval=-1)

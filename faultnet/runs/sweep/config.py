@@ -14,6 +14,8 @@ Sweep file (TOML)
     k = 16                       # number or list (default: 16, or the graph file's k)
     sigma = 0.01                 # number or list (default: 0.01, or the graph file's)
     dt = 0.005                   # optional number or list (default: faultnet.default_dt)
+    model = "ofc"                # optional: the OFC automaton instead of the Carlson-Langer
+    ofc_alpha = [0.15, 0.2]      # .. model, with its conservation (or k), no sigma/alpha/dt
     events = 20000               # events per point (required)
     replicas = 2                 # independent runs per parameter set (default 1)
     seed = 12345                 # root seed (default: fresh entropy, kept in sweep.json)
@@ -33,7 +35,7 @@ Sweep file (TOML)
     p = [0.55, 0.5927, 0.65]     # e.g. graph = "percolation:square:{L}x{L}:p={p}"
 
 Points are numbered in the order ``graph`` (vars varying fastest in the order
-listed), ``k``, ``sigma``, ``alpha``, ``dt``, replica.  Random percolation
+listed), ``k``, ``sigma``, ``alpha``, ``ofc_alpha``, ``dt``, replica.  Random percolation
 graphs get their own disorder per point (from the point's seed).
 
 >>> cfg = SweepConfig.from_dict({"graph": "ring:{n}", "vars": {"n": [10, 20]},
@@ -77,7 +79,9 @@ class SweepConfig:
     k: list = field(default_factory=lambda: [None])
     sigma: list = field(default_factory=lambda: [None])
     alpha: list = field(default_factory=lambda: [None])
+    ofc_alpha: list = field(default_factory=lambda: [None])
     dt: list = field(default_factory=lambda: [None])
+    model: str | None = None
     replicas: int = 1
     seed: int | None = None
     transient: int = 0
@@ -107,6 +111,7 @@ class SweepConfig:
         }
         settings = checks.run_settings(table)
         settings["options"] = checks.run_options(table, where)
+        settings["model"] = checks.model(table, lists, settings["options"])
         out = checks.out_folder(table.get("out"), base_dir)
         return cls(
             graphs=graphs,
@@ -131,8 +136,9 @@ class SweepConfig:
         if self.seed is None:
             raise ConfigError("sweep.seed is not set; call with_seed() first")
         combos = itertools.product(
-            self.graphs, self.k, self.sigma, self.alpha, self.dt, range(self.replicas)
-        )
+            self.graphs, self.k, self.sigma, self.alpha, self.ofc_alpha, self.dt,
+            range(self.replicas),
+        )  # fmt: skip
         return [
             {
                 "index": index,
@@ -146,8 +152,9 @@ class SweepConfig:
                 "seed_entropy": self.seed,
                 "spawn_key": [index],
                 **({"options": self.options} if self.options else {}),
+                **({"model": self.model, "ofc_alpha": ofc_alpha} if self.model else {}),
             }
-            for index, (graph, k, sigma, alpha, dt, rep) in enumerate(combos)
+            for index, (graph, k, sigma, alpha, ofc_alpha, dt, rep) in enumerate(combos)
         ]
 
     def defining(self) -> dict:
@@ -162,6 +169,7 @@ class SweepConfig:
             "replicas": self.replicas,
             "seed": self.seed,
             **({"options": self.options} if self.options else {}),
+            **({"model": self.model, "ofc_alpha": self.ofc_alpha} if self.model else {}),
         }
 
     def to_dict(self) -> dict:

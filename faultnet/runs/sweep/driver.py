@@ -87,6 +87,8 @@ def run_point(
         sigma=point["sigma"],
         alpha=point["alpha"],
         dt=point["dt"],
+        model=point.get("model"),
+        ofc_alpha=point.get("ofc_alpha"),
         options=point.get("options"),
         seed=seq,
         chunk_events=chunk,

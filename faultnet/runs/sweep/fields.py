@@ -23,6 +23,7 @@ __all__ = [
     "graph_templates",
     "graph_vars",
     "integer",
+    "model",
     "numbers",
     "out_folder",
     "run_options",
@@ -30,7 +31,7 @@ __all__ = [
     "unknown_key",
 ]
 
-LIST_KEYS = ("k", "sigma", "alpha", "dt")
+LIST_KEYS = ("k", "sigma", "alpha", "ofc_alpha", "dt")
 ALLOWED_KEYS = {
     "graph": 'graph spec or list of specs (required), e.g. "ring:200"',
     "events": "events per point, integer > 0 (required)",
@@ -38,6 +39,9 @@ ALLOWED_KEYS = {
     "k": "number or list of numbers > 0",
     "sigma": "number or list of numbers in (0, 1)",
     "dt": "number or list of numbers > 0",
+    "model": '"carlson-langer" (default) or "ofc" (the OFC automaton: k or ofc_alpha, no '
+    "sigma, alpha or dt)",
+    "ofc_alpha": 'number or list of numbers > 0: the OFC automaton\'s conservation (model = "ofc")',
     "replicas": "integer >= 1",
     "seed": "integer >= 0",
     "transient": "integer >= 0, less than events",
@@ -54,6 +58,7 @@ _LIST_CHECKS = {
     "k": (lambda v: v > 0, "> 0"),
     "sigma": (lambda v: 0 < v < 1, "in the open interval (0, 1)"),
     "alpha": (lambda v: v >= 0, ">= 0"),
+    "ofc_alpha": (lambda v: v > 0, "> 0 (and below 1/q on a graph of coordination q)"),
     "dt": (lambda v: v > 0, "> 0"),
 }
 
@@ -229,3 +234,29 @@ def run_options(table, where):
         raise ConfigError(f"{where}: {exc}") from None
     full = opts.to_dict()
     return {key: full[key] for key in given}
+
+
+def model(table, lists, options):
+    """The sweep's model: None (Carlson-Langer, the default) or ``"ofc"``, with the parameter
+    lists that belong to it."""
+    from faultnet.runs.specs import MODELS
+
+    name = table.get("model")
+    if name is not None and name not in MODELS:
+        raise ConfigError(
+            f"sweep.model: expected one of {', '.join(map(repr, MODELS))}; got {name!r}"
+        )
+    if name != "ofc":
+        if lists["ofc_alpha"] != [None]:
+            raise ConfigError('sweep.ofc_alpha is the OFC automaton\'s: add model = "ofc"')
+        return None
+    wrong = [key for key in ("sigma", "alpha", "dt") if lists[key] != [None]]
+    wrong += ["options" if "rtol" not in options else "rtol"] if options else []
+    if wrong:
+        raise ConfigError(
+            f"sweep.{', sweep.'.join(wrong)}: not parameters of the OFC automaton (model = "
+            '"ofc"), which has no friction and no integration; give k or ofc_alpha'
+        )
+    if lists["k"] != [None] and lists["ofc_alpha"] != [None]:
+        raise ConfigError("sweep: give the OFC automaton k or ofc_alpha, not both")
+    return "ofc"

@@ -28,7 +28,8 @@ _FIT_COLUMNS = [
 ]  # fmt: skip
 #: the columns of the summary table; ``part`` is the point's catalog file name
 SUMMARY_COLUMNS = [
-    "point", "replica", "graph", "n_blocks", "k", "sigma", "alpha", "dt", "events", "transient",
+    "point", "replica", "graph", "model", "n_blocks", "k", "sigma", "alpha", "dt", "events",
+    "transient",
     *_FIT_COLUMNS,
     "wall_time_s", "events_per_s", "seed_entropy", "spawn_key", "status", "part",
 ]  # fmt: skip
@@ -39,6 +40,7 @@ def _row(point, path, md, st, status):
         "point": point["index"],
         "replica": point["replica"],
         "graph": point["graph"],
+        "model": md.get("model", point.get("model") or "carlson-langer"),
         "n_blocks": md.get("n_blocks"),
         "k": md.get("k", point["k"]),
         "sigma": md.get("sigma", point["sigma"]),

@@ -5,6 +5,7 @@ array, calls these kernels and turns their status codes into exceptions.
 
 - :mod:`.carlson_langer`: the Carlson-Langer engine's kernels, and only kernels (its physics
   in :mod:`.carlson_langer.physics`);
+- :mod:`.ofc`: the Olami-Feder-Christensen automaton (drive, avalanches);
 - :mod:`.jit`: the decorators every kernel is compiled with (Numba's ``njit``);
 - :mod:`.cache`: the on-disk cache of the kernels, stamped with all their sources and sealed;
 - :mod:`.layout`, :mod:`.bundles`: the named layouts of the arrays the kernels share with
@@ -21,6 +22,9 @@ _NAMES = {
     "LOC_SIZE": "carlson_langer.work",
     "N_IWORK": "carlson_langer.work",
     "N_WORK": "carlson_langer.work",
+    "OFC_RECENTRE_AT": "ofc",
+    "OFC_STATUS_OK": "ofc",
+    "OFC_STATUS_TOO_MANY_TOPPLINGS": "ofc",
     "STATUS_EVENT_TOO_LONG": "carlson_langer.crossing",
     "STATUS_NONFINITE": "carlson_langer.crossing",
     "STATUS_OK": "carlson_langer.crossing",
@@ -30,6 +34,7 @@ _NAMES = {
     "is_cold": "cache",
     "run_events_dopri5": "carlson_langer.events",
     "run_events_dopri5_interpolated": "carlson_langer.events",
+    "run_ofc": "ofc",
 }
 
 __all__ = sorted(_NAMES)

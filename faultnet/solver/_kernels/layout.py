@@ -12,6 +12,9 @@ catalog, one row per event.
 ``trace_buf`` (float64[rows, TRACE_X + 2 m]): one row per step of an event for the ``m`` traced
 blocks: the event, the time, their positions ``[TRACE_X, TRACE_X + m)`` and velocities
 ``[TRACE_X + m, TRACE_X + 2 m)``.
+
+The OFC automaton's entry (:mod:`.ofc`) shares ``scal`` and has its own ``OFC_CTRL_*``,
+``OFC_CNT_*`` and catalog columns ``OFC_CAT_*``.
 """
 
 __all__ = [
@@ -43,6 +46,24 @@ __all__ = [
     "CTRL_REBUILD",
     "CTRL_SIZE",
     "CTRL_SOLO_CACHE",
+    "OFC_CAT_BLOCKS",
+    "OFC_CAT_FAULTS",
+    "OFC_CAT_F_SIZE",
+    "OFC_CAT_GENERATIONS",
+    "OFC_CAT_HYPOCENTER",
+    "OFC_CAT_I_SIZE",
+    "OFC_CAT_S",
+    "OFC_CAT_T",
+    "OFC_CAT_TOPPLINGS",
+    "OFC_CHUNK_SHIFT",
+    "OFC_CNT_EVENTS",
+    "OFC_CNT_GENERATIONS",
+    "OFC_CNT_SIZE",
+    "OFC_CNT_STAMP",
+    "OFC_CNT_TOPPLINGS",
+    "OFC_CTRL_MAX_TOPPLINGS",
+    "OFC_CTRL_REBUILD",
+    "OFC_CTRL_SIZE",
     "OUT_BLOCKS",
     "OUT_DURATION",
     "OUT_FAULTS",
@@ -117,3 +138,29 @@ CAT_I_SIZE = 4
 TRACE_EVENT = 0  #: ``trace_buf`` column: the event's number
 TRACE_TIME = 1  #: ``trace_buf`` column: time since the event's start
 TRACE_X = 2  #: ``trace_buf`` columns from here: the traced blocks' positions, then velocities
+
+# The OFC automaton (:mod:`.ofc`): ``ctrl`` (float64[OFC_CTRL_SIZE]), ``cnt`` (int64[OFC_CNT_SIZE]),
+# ``cat_f`` (float64[n_events, OFC_CAT_F_SIZE]) and ``cat_i`` (int64[n_events, OFC_CAT_I_SIZE]).
+#: the OFC tree's leaves are chunks of ``2**OFC_CHUNK_SHIFT`` consecutive blocks (see :mod:`.ofc`)
+OFC_CHUNK_SHIFT = 5
+OFC_CTRL_MAX_TOPPLINGS = 0  #: the most topplings one avalanche may take (then the entry stops)
+#: 1.0: build the tree from the keys before the next avalanche (set where the arrays are built,
+#: cleared by the kernel)
+OFC_CTRL_REBUILD = 1
+OFC_CTRL_SIZE = 2
+
+OFC_CNT_EVENTS = 0  #: avalanches completed in this call
+OFC_CNT_TOPPLINGS = 1  #: topplings in this call
+OFC_CNT_GENERATIONS = 2  #: generations in this call
+OFC_CNT_STAMP = 3  #: tag counter of the avalanches' and generations' marks (never reset)
+OFC_CNT_SIZE = 4
+
+OFC_CAT_T = 0  #: ``cat_f`` column: the drive at the avalanche's start
+OFC_CAT_S = 1  #: ``cat_f`` column: its total slip S
+OFC_CAT_F_SIZE = 2
+OFC_CAT_TOPPLINGS = 0  #: ``cat_i`` column: its topplings
+OFC_CAT_BLOCKS = 1  #: ``cat_i`` column: the distinct blocks that toppled
+OFC_CAT_HYPOCENTER = 2  #: ``cat_i`` column: block index of the block that reached 1 first
+OFC_CAT_FAULTS = 3  #: ``cat_i`` column: the faults among the blocks that toppled
+OFC_CAT_GENERATIONS = 4  #: ``cat_i`` column: its generations (synchronous steps)
+OFC_CAT_I_SIZE = 5

@@ -125,9 +125,10 @@ def _finish_event(ntouch, ev, state, graph, work, records):
                 slip_val[row] = s
                 row += 1
     cnt[CNT_SLIP_ROWS] = row
+    off = state.scal[SCAL_OFFSET]
     for q in range(ntouch):
         j = IW[TOUCH, q]
-        keys[j] = block_key(j, z, graph)
+        keys[j] = block_key(j, z, off, graph)
         tree_update(j, keys, tree)
         W[j, D] = 0.0
         W[j, P] = 0.0

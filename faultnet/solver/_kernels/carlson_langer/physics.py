@@ -10,7 +10,9 @@ A slipping block i, displaced by ``x_i`` since the start of the event, obeys
 ``phi`` the velocity-weakening dynamic friction.  A stuck block stays stuck while ``F_i < 1``
 (the static threshold) and a slipping block sticks when its velocity reaches 0 with its
 acceleration <= 0.  Between events the plate moves and no block does: a stuck block's force is
-``1 + w - key_i`` at plate position ``w`` (:func:`block_key`).
+``1 + w - key_i`` at plate position ``w`` (:func:`block_key`).  ``diag_i`` includes the
+block's frame springs (``graph.frame``, ``k wall_i``), which tie it to a frame at rest at the
+absolute position 0: only the keys see where the frame is (through the frame offset ``off``).
 
 Every kernel that needs a force, an acceleration or a rate of the friction calls the kernels
 here: the DP5 stages (:func:`accel_hot`), the crossings (:func:`force`, :func:`accel`, the
@@ -22,8 +24,8 @@ is a change of this module and of its tests.
 Arguments: ``i`` a block, ``pos`` and ``vel`` columns of the work array ``W`` (positions,
 velocities), ``v`` a velocity, ``graph`` the ``Graph`` bundle (springs
 ``indptr``, ``indices``, ``kval``, ``nbr``, ``k_uniform`` and the per-block ``diag``, ``oms``,
-``cfr``), ``z`` the displacements between events, ``keys`` the failure keys, ``w`` the plate
-position.
+``cfr``, ``frame``), ``z`` the displacements between events (relative to the frame offset
+``off``), ``keys`` the failure keys, ``w`` the plate position.
 """
 
 import numpy as np
@@ -52,16 +54,21 @@ FRICTION_FLOOR = 0.5
 
 
 @kernel
-def block_key(i, z, graph):
+def block_key(i, z, off, graph):
     """Plate position (re-centred frame) at which stuck block ``i``'s force reaches 1.
 
-    ``key_i = 1 + diag_i z_i - sum_j k_ij z_j``: keys do not depend on the plate position.
+    ``key_i = 1 + diag_i z_i - sum_j k_ij z_j + frame_i off``: keys do not depend on the plate
+    position.  The last term is the pull of the frame springs, at rest at ``x = 0``, that is at
+    ``-off`` in the re-centred frame; it is left out where there are none (bit for bit).
     """
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += kval[p] * z[indices[p]]
-    return 1.0 + graph.diag[i] * z[i] - s
+    key = 1.0 + graph.diag[i] * z[i] - s
+    if graph.frame[i] != 0.0:
+        key += graph.frame[i] * off
+    return key
 
 
 @kernel

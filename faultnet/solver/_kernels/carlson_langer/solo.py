@@ -39,6 +39,7 @@ from faultnet.solver._kernels.layout import (
     CNT_RELOCATIONS,
     CNT_SLIP_ROWS,
     CNT_SOLO_EVENTS,
+    SCAL_OFFSET,
 )
 
 __all__ = ["SOLO_MARGIN", "solo_apply", "solo_end", "solo_free", "solo_start"]
@@ -122,12 +123,13 @@ def solo_free(hyp, s1, w, keys, graph):
 def solo_apply(hyp, s1, ev, state, graph, cnt, records):
     """Commit a free single-block slip: move the block, refresh its and its neighbours' keys."""
     z, keys, tree = state.z, state.keys, state.tree
+    off = state.scal[SCAL_OFFSET]
     z[hyp] += s1
-    keys[hyp] = block_key(hyp, z, graph)
+    keys[hyp] = block_key(hyp, z, off, graph)
     tree_update(hyp, keys, tree)
     for p in range(graph.indptr[hyp], graph.indptr[hyp + 1]):
         j = graph.indices[p]
-        keys[j] = block_key(j, z, graph)
+        keys[j] = block_key(j, z, off, graph)
         tree_update(j, keys, tree)
     if records.slip_val.shape[0] > 0:
         row = cnt[CNT_SLIP_ROWS]

@@ -9,6 +9,7 @@ one leaf.  Ties go to the lower block index.
 
 from faultnet.solver._kernels.carlson_langer.physics import block_key
 from faultnet.solver._kernels.jit import kernel
+from faultnet.solver._kernels.layout import SCAL_OFFSET
 
 __all__ = ["build_keys_and_tree", "tree_update"]
 
@@ -36,8 +37,9 @@ def build_keys_and_tree(state, graph):
     z, keys, tree = state.z, state.keys, state.tree
     n = z.shape[0]
     leaves = tree.shape[0] // 2
+    off = state.scal[SCAL_OFFSET]
     for i in range(n):
-        keys[i] = block_key(i, z, graph)
+        keys[i] = block_key(i, z, off, graph)
     for i in range(leaves):
         tree[leaves + i] = i if i < n else -1
     for p in range(leaves - 1, 0, -1):
