@@ -65,46 +65,30 @@ import numpy as np
 
 from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
 from faultnet.io.atomic import atomic_path, fsync_dir, is_tmp_name
-from faultnet.io.slips import SIDE_TABLES, side_path
+from faultnet.io.slips import SIDE_TABLES
 from faultnet.model.state import State
+from faultnet.runs.identity import mismatch
 
 __all__ = [
     "CHECKPOINT_SUFFIX",
-    "SIDE_TABLES",
     "Checkpoint",
     "checkpoint_dir",
     "checkpoint_status",
     "chunk_path",
     "discard_tmp_outputs",
-    "mismatch",
     "prepare_resume",
     "read_json",
     "read_run_json",
     "remove_checkpoint_dir",
-    "run_identity",
     "save_checkpoint",
     "sha256_file",
     "side_chunk_path",
-    "side_path",
-    "side_tables",
     "verify_chunks",
 ]
 
 CHECKPOINT_SUFFIX = ".checkpoint"
 RUN_FORMAT = "faultnet-run"
 _CHUNK_RE = re.compile(r"(chunk|slips|fault_slips)-(\d{6})\.parquet$")
-#: run.json fields that must agree for a resume to continue the same run
-IDENTITY = (
-    "n_events",
-    "dt",
-    "options",
-    "seed_entropy",
-    "seed_spawn_key",
-    "graph_hash",
-    "record_slips",
-)
-#: the value of an identity field that files written before it existed lack
-IDENTITY_DEFAULTS = {"record_slips": False}
 _COUNTERS = {
     "wall_time_s": float,
     "n_steps": int,
@@ -132,48 +116,6 @@ def chunk_path(wd, i) -> str:
 def side_chunk_path(wd, name, i) -> str:
     """Path of side table ``name``'s part of committed chunk ``i``."""
     return os.path.join(wd, f"{name}-{i:06d}.parquet")
-
-
-def side_tables(model, record_slips) -> tuple:
-    """The side tables a run of ``model`` writes: the per-block slips where ``record_slips``,
-    the per-fault slips on a network of faults (of blocks: an automaton's topplings are not
-    summed per fault)."""
-    per_fault = model.faults is not None and model.params.get("model") != "ofc"
-    return tuple(
-        name for name, wanted in zip(SIDE_TABLES, (record_slips, per_fault), strict=True) if wanted
-    )
-
-
-def run_identity(model, n_events, dt, options, seq, record_slips=False) -> dict:
-    """What makes two runs the same run (compared by :func:`mismatch` on resume)."""
-    from faultnet.model.identity import graph_hash
-    from faultnet.runs.models import options_record
-
-    return {
-        "n_events": int(n_events),
-        "dt": float(dt),
-        "options": options_record(model, options),
-        "seed_entropy": seq.entropy,
-        "seed_spawn_key": list(seq.spawn_key),
-        "graph_hash": graph_hash(model),
-        "record_slips": bool(record_slips),
-    }
-
-
-def mismatch(stored, wanted, keys=IDENTITY) -> list:
-    """The identity fields in which ``stored`` and ``wanted`` differ, as sentences."""
-    diffs = []
-    for key in keys:
-        default = IDENTITY_DEFAULTS.get(key)
-        a, b = stored.get(key, default), wanted.get(key, default)
-        if isinstance(a, list | tuple) or isinstance(b, list | tuple):
-            a, b = list(a or []), list(b or [])
-        if a != b:
-            diffs.append(
-                f"{key}: checkpoint has {stored.get(key, default)!r}, this call "
-                f"{wanted.get(key, default)!r}"
-            )
-    return diffs
 
 
 def read_json(path):

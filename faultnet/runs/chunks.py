@@ -45,8 +45,8 @@ from faultnet.runs.checkpoint import (
     save_checkpoint,
     sha256_file,
     side_chunk_path,
-    side_tables,
 )
+from faultnet.runs.identity import side_tables
 from faultnet.runs.models import (
     compiling_label,
     model_metadata,

@@ -27,7 +27,7 @@ import shutil
 
 import numpy as np
 
-from faultnet._validate import check_int, check_memory, seed_sequence
+from faultnet._validate import check_memory, seed_sequence
 from faultnet.exceptions import CatalogError, InvalidParameterError, OutputExistsError
 from faultnet.io.atomic import atomic_write_json
 from faultnet.io.catalog_file import read_metadata, read_state, verify_catalog
@@ -36,27 +36,23 @@ from faultnet.io.lock import LOCK_SUFFIX, output_lock
 from faultnet.io.parquet import check_catalog_path, merge_parts
 from faultnet.io.slips import SIDE_TABLES, check_side_table, side_metadata, side_path
 from faultnet.runs.checkpoint import (
-    IDENTITY,
-    IDENTITY_DEFAULTS,
     RUN_FORMAT,
     Checkpoint,
     checkpoint_dir,
     checkpoint_status,
     chunk_path,
     discard_tmp_outputs,
-    mismatch,
     prepare_resume,
     read_run_json,
     remove_checkpoint_dir,
-    run_identity,
     save_checkpoint,
     sha256_file,
     side_chunk_path,
-    side_tables,
     verify_chunks,
 )
 from faultnet.runs.chunks import RunReport, run_loop, write_failure
-from faultnet.runs.models import check_model, job_options, run_step
+from faultnet.runs.identity import IDENTITY, IDENTITY_DEFAULTS, mismatch, run_identity, side_tables
+from faultnet.runs.models import check_job, run_step
 
 __all__ = ["LongRun", "RunReport", "simulate_to_parquet"]
 
@@ -148,7 +144,7 @@ def simulate_to_parquet(
         with LongRun(out, resume=resume, force=force, extend=extend) as long_run:
             return long_run.run(model, n_events, **run)
     rng = run.pop("rng")
-    job = _job(model, n_events, **run)
+    job = check_job(model, n_events, **run)
     if job["record_slips"]:
         raise InvalidParameterError(
             "record_slips=True writes the slips next to the catalog: give an output file "
@@ -239,7 +235,7 @@ class LongRun:
         """Start, resume or extend the run of ``n_events`` of ``model``, then verify and merge
         its chunks into the output.  ``rng`` and the other arguments are those of
         :func:`simulate_to_parquet`; on resume, ``rng=None`` takes the stored seed."""
-        job = _job(model, n_events, **arguments)
+        job = check_job(model, n_events, **arguments)
         if not isinstance(model.nodes, range):  # refused now rather than at the first chunk
             check_labels(model.nodes, f"{self.out}: the graph's node labels")
         resume = self.resume or self.extend
@@ -390,36 +386,3 @@ class LongRun:
                         shas)  # fmt: skip
         save_checkpoint(os.path.join(wd, "checkpoint.npz"), ck)  # the commit point
         self.stored, self._from_checkpoint = run, True
-
-
-def _job(model, n_events, *, dt=None, options=None, chunk_events=100_000,
-         checkpoint_interval=60.0, transient=0, progress=None, metadata=None, desc=None,
-         on_commit=None, record_slips=False):  # fmt: skip
-    """The checked arguments of :func:`simulate_to_parquet`, as keywords of the run loop."""
-    check_model(model)
-    if transient is not None:
-        transient = check_int("transient", transient, minimum=0)
-    interval = float(checkpoint_interval)
-    if not (interval >= 0.0):
-        raise InvalidParameterError(
-            f"checkpoint_interval must be >= 0 s; got {checkpoint_interval!r}"
-        )
-    return dict(
-        model=model,
-        n_events=check_int("n_events", n_events),
-        options=job_options(model, options, dt, record_slips),
-        chunk_events=check_int("chunk_events", chunk_events),
-        interval=interval,
-        transient=transient,
-        progress=progress,
-        extra=metadata,
-        desc=desc,
-        on_commit=on_commit,
-        record_slips=_flag("record_slips", record_slips),
-    )
-
-
-def _flag(name, value):
-    if not isinstance(value, bool | np.bool_):
-        raise InvalidParameterError(f"{name} must be True or False; got {value!r}")
-    return bool(value)

@@ -19,11 +19,15 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
+from faultnet._validate import check_int
 from faultnet.exceptions import InvalidParameterError
 from faultnet.model.carlson_langer import CarlsonLanger
 from faultnet.model.ofc import OFC
 
 __all__ = [
+    "check_job",
     "check_model",
     "compiling_label",
     "job_options",
@@ -140,3 +144,37 @@ def transient_time(model) -> float:
     if isinstance(model, OFC):
         return 20.0 * math.sqrt(model.n)
     return 2.0
+
+
+def check_job(model, n_events, *, dt=None, options=None, chunk_events=100_000,
+              checkpoint_interval=60.0, transient=0, progress=None, metadata=None, desc=None,
+              on_commit=None, record_slips=False):  # fmt: skip
+    """The checked arguments of :func:`~faultnet.runs.long_run.simulate_to_parquet`, as
+    keywords of the run loop."""
+    check_model(model)
+    if transient is not None:
+        transient = check_int("transient", transient, minimum=0)
+    interval = float(checkpoint_interval)
+    if not (interval >= 0.0):
+        raise InvalidParameterError(
+            f"checkpoint_interval must be >= 0 s; got {checkpoint_interval!r}"
+        )
+    return dict(
+        model=model,
+        n_events=check_int("n_events", n_events),
+        options=job_options(model, options, dt, record_slips),
+        chunk_events=check_int("chunk_events", chunk_events),
+        interval=interval,
+        transient=transient,
+        progress=progress,
+        extra=metadata,
+        desc=desc,
+        on_commit=on_commit,
+        record_slips=_flag("record_slips", record_slips),
+    )
+
+
+def _flag(name, value):
+    if not isinstance(value, bool | np.bool_):
+        raise InvalidParameterError(f"{name} must be True or False; got {value!r}")
+    return bool(value)
