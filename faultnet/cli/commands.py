@@ -211,6 +211,9 @@ def cmd_info(args, out):
     print(f"{path} ({_size(path)})", file=out)
     print(format_metadata(md), file=out)
     print(format_stats(md, stats), file=out)
+    for side in _side_files(path):
+        what = "per-fault slips" if side.endswith(".fault_slips.parquet") else "per-block slips"
+        print(f"{'slips':12}{side} ({what}, {_size(side)}; faultnet.read_slips)", file=out)
     return EXIT_OK
 
 
@@ -255,7 +258,11 @@ _SHOW = [
 def _print_table(table, out):
     import pandas as pd
 
-    shown = table[_SHOW].copy()
+    show = list(_SHOW)
+    if "model" in table and (table["model"] == "ofc").any():  # the automaton: no friction
+        show[show.index("graph") + 1 : show.index("graph") + 1] = ["model"]
+        show.remove("sigma")
+    shown = table[show].copy()
     with pd.option_context(
         "display.max_rows", None, "display.width", 200, "display.max_colwidth", 40
     ):

@@ -384,3 +384,15 @@ def test_record_slips_writes_resumes_and_continues_the_slips(tmp_path, capsys):
     pd.testing.assert_frame_equal(faultnet.read_slips(out), ref.slips)
     assert main(["simulate", "ring:40", "--events", "10", "--record-slips"]) == 2
     assert "--record-slips needs --out" in capsys.readouterr().err
+
+
+def test_info_names_the_slips_next_to_a_catalog(tmp_path, capsys):
+    out = str(tmp_path / "net.parquet")
+    graph = faultnet.graphs.parallel_faults(2, 10, k_coupling=1.0)
+    model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
+    faultnet.simulate_to_parquet(model, 200, out, rng=1, record_slips=True, progress=False)
+    capsys.readouterr()
+    assert main(["info", out]) == 0
+    text = capsys.readouterr().out
+    assert "net.slips.parquet (per-block slips" in text
+    assert "net.fault_slips.parquet (per-fault slips" in text

@@ -152,3 +152,15 @@ def test_a_sweep_of_the_automaton(tmp_path):
         SweepConfig.from_dict({"graph": "ring:8", "ofc_alpha": 0.2, "events": 10})
     with pytest.raises(ConfigError, match="sweep.model: expected one of"):
         SweepConfig.from_dict({"graph": "ring:8", "model": "ofc2", "events": 10})
+
+
+def test_the_sweep_command_shows_the_model(tmp_path, capsys):
+    config = tmp_path / "ofc.toml"
+    config.write_text(
+        '[sweep]\ngraph = "square:8x8:fixed"\nmodel = "ofc"\nofc_alpha = 0.2\nevents = 500\n'
+        "seed = 1\n"
+    )
+    assert main(["sweep", str(config), "-j", "1", "--no-progress"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    header = next(line.split() for line in lines if line.split()[:3] == ["point", "graph", "model"])
+    assert "sigma" not in header
