@@ -59,6 +59,7 @@ from faultnet.solver._kernels.layout import (
 )
 from faultnet.solver.arrays import catalog_state
 from faultnet.solver.result import SimulationResult, node_labels
+from faultnet.solver.simulator import next_call_size
 
 __all__ = ["OFC_COLUMNS", "OFCSimulator", "ofc_events_frame", "ofc_metadata", "simulate_ofc"]
 
@@ -343,13 +344,10 @@ class OFCSimulator:
                     bar.set_description_str("faultnet")
                     compiling = False
                 bar.update(got)
-                elapsed = time.perf_counter() - tic
                 if loading:
                     loading, chunk, t0 = False, 256, time.perf_counter()
-                elif elapsed < 0.1:
-                    chunk = min(chunk * 2, 1 << 20)
-                elif elapsed > 0.5:
-                    chunk = max(chunk // 2, 1)
+                else:
+                    chunk = next_call_size(chunk, time.perf_counter() - tic)
         return time.perf_counter() - t0
 
     def _raise(self, row, event):

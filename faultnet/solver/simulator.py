@@ -38,7 +38,7 @@ from faultnet.solver.options import RunOptions
 from faultnet.solver.result import SimulationResult, events_frame
 from faultnet.solver.wrap import raise_status, run_metadata, wrap_result
 
-__all__ = ["COMPILING_LABEL", "Simulator"]
+__all__ = ["COMPILING_LABEL", "Simulator", "next_call_size"]
 
 #: the progress bar's label while the first run compiles the kernels
 COMPILING_LABEL = "faultnet: compiling the kernels (first run only, 12-25 s)"
@@ -46,6 +46,17 @@ COMPILING_LABEL = "faultnet: compiling the kernels (first run only, 12-25 s)"
 MAX_PROFILE_VALUES = 20_000_000
 #: memory of one event in a chunk: the kernels' catalog rows and the events frame made of them
 _BYTES_PER_EVENT = 8 * (CAT_F_SIZE + CAT_I_SIZE) * 2
+
+
+def next_call_size(n, seconds):
+    """Events for the next call of an entry kernel after ``n`` took ``seconds``: twice as
+    many below 0.1 s (at most 2**20), half as many above 0.5 s (at least 1), so that a call
+    takes 0.1-0.5 s (a smooth progress bar, Ctrl-C heard soon)."""
+    if seconds < 0.1:
+        return min(n * 2, 1 << 20)
+    if seconds > 0.5:
+        return max(n // 2, 1)
+    return n
 
 
 def _kernels():
@@ -305,11 +316,8 @@ class Simulator:
                     raise_status(K, status, arr, self._model, ev0 + done, self._dt)
                 bar.update(got)
                 bar.set_postfix(t=f"{arr.scal[SCAL_OFFSET] + arr.scal[SCAL_W]:.4g}", refresh=False)
-                elapsed = time.perf_counter() - tic
                 if loading:
                     loading, chunk, t0 = False, 256, time.perf_counter()
-                elif elapsed < 0.1:
-                    chunk = min(chunk * 2, 1 << 20)
-                elif elapsed > 0.5:
-                    chunk = max(chunk // 2, 1)
+                else:
+                    chunk = next_call_size(chunk, time.perf_counter() - tic)
         return time.perf_counter() - t0, steps, block_steps

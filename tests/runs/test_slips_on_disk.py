@@ -174,3 +174,42 @@ def test_bad_requests_get_one_clear_error(tmp_path, faults):
     _run(faultnet.CarlsonLanger(faultnet.graphs.ring(20)), ring, n=100)
     with pytest.raises(CatalogError, match="network of faults"):
         faultnet.read_slips(ring, per="fault")
+
+
+def test_a_kill_between_the_slips_and_the_catalog_merge_resumes(tmp_path, faults, monkeypatch):
+    """The side tables are merged first: a kill before the catalog's merge leaves them next to
+    no catalog, and the resumed run merges them again."""
+    from faultnet.runs import long_run
+
+    model, ref = faults
+    out = str(tmp_path / "net.parquet")
+    real = long_run.merge_parts
+
+    def merge(parts, target, md, **kw):
+        if target == out:
+            raise Crash
+        return real(parts, target, md, **kw)
+
+    monkeypatch.setattr(long_run, "merge_parts", merge)
+    with pytest.raises(Crash):
+        _run(model, out, record_slips=True)
+    assert not os.path.exists(out) and os.path.exists(str(tmp_path / "net.slips.parquet"))
+    monkeypatch.setattr(long_run, "merge_parts", real)
+    assert _run(model, out, record_slips=True, resume=True).status == "resumed"
+    pd.testing.assert_frame_equal(faultnet.read_slips(out), ref.slips)
+    pd.testing.assert_frame_equal(faultnet.read_catalog(out).events, ref.events)
+
+
+def test_uncommitted_slips_chunks_are_discarded_on_resume(tmp_path, faults):
+    """A kill after a chunk's files but before its checkpoint: the resume drops them."""
+    model, ref = faults
+    out = str(tmp_path / "net.parquet")
+    with pytest.raises(Crash):
+        _run(model, out, record_slips=True, on_commit=_crash_after(2))
+    wd = checkpoint_dir(out)
+    for name in ("chunk", "slips", "fault_slips"):  # a chunk 2 the checkpoint does not cover
+        src = os.path.join(wd, f"{name}-000001.parquet")
+        with open(src, "rb") as fh, open(os.path.join(wd, f"{name}-000002.parquet"), "wb") as dst:
+            dst.write(fh.read())
+    _run(model, out, record_slips=True, resume=True)
+    pd.testing.assert_frame_equal(faultnet.read_slips(out), ref.slips)
