@@ -41,6 +41,7 @@ def test_simulate_and_info_subprocess(tmp_path):
         "300",
         "--out",
         out,
+        timeout=600,  # the first run compiles the kernels: minutes on the oldest Numba
     )
     assert res.returncode == 0, res.stderr
     text = res.stdout
