@@ -4,6 +4,7 @@ import os
 
 import pandas as pd
 import pytest
+from crash_hooks import Crash, crash_after
 
 import faultnet
 from faultnet.__main__ import main
@@ -15,18 +16,6 @@ from faultnet.runs.specs import build_model
 from faultnet.runs.sweep.config import SweepConfig
 
 N = 6000
-
-
-class Crash(Exception):
-    pass
-
-
-def _crash_after(n):
-    def on_commit(n_chunks):
-        if n_chunks == n:
-            raise Crash
-
-    return on_commit
 
 
 @pytest.fixture(scope="module")
@@ -61,7 +50,7 @@ def test_resume_and_extension_are_bit_identical(tmp_path, ofc):
     model, ref = ofc
     out = str(tmp_path / "ofc.parquet")
     with pytest.raises(Crash):
-        _run(model, out, n=3000, on_commit=_crash_after(2))
+        _run(model, out, n=3000, on_commit=crash_after(2))
     assert os.path.isdir(checkpoint_dir(out))
     assert _run(model, out, n=3000, resume=True).status == "resumed"
     assert _run(model, out, n=3000, resume=True).status == "already complete"

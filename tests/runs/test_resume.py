@@ -9,6 +9,7 @@ import time
 
 import pandas as pd
 import pytest
+from crash_hooks import Crash, crash_after
 
 import faultnet
 from faultnet.io.lock import alive
@@ -96,10 +97,6 @@ def test_sigkill_at_random_moments_then_resume(tmp_path):
     print(f"events committed at the {len(kills)} kills: {kills}")
 
 
-class Crash(BaseException):
-    """Stands in for a kill at a chosen instant (not an Exception: nothing handles it)."""
-
-
 @pytest.fixture(scope="module")
 def small():
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(60), alpha=1.5)
@@ -110,16 +107,6 @@ def small():
 def _run(model, out, **kw):
     kw = {"rng": 5, "chunk_events": 250, "checkpoint_interval": 0, "progress": False, **kw}
     return simulate_to_parquet(model, 3000, out, **kw)
-
-
-def _crash_after(n):
-    """An ``on_commit`` hook that kills the run right after its ``n``-th commit."""
-
-    def on_commit(n_chunks):
-        if n_chunks == n:
-            raise Crash
-
-    return on_commit
 
 
 @pytest.mark.parametrize(
@@ -138,7 +125,7 @@ def test_crash_windows(tmp_path, monkeypatch, small, where):
     calls = {"n": 0}
     kw = {}
     if where == "after_commit":
-        kw["on_commit"] = _crash_after(5)
+        kw["on_commit"] = crash_after(5)
     elif where in ("after_part", "in_checkpoint"):
         real = _run_loop.save_checkpoint
 
@@ -199,7 +186,7 @@ def test_resume_checks_parameters(tmp_path, small):
     model, ref = small
     out = tmp_path / "cat.parquet"
     with pytest.raises(Crash):
-        _run(model, out, on_commit=_crash_after(3))
+        _run(model, out, on_commit=crash_after(3))
     with pytest.raises(faultnet.InvalidParameterError, match="alpha|graph_hash"):
         _run(model.with_params(alpha=2.0), out, resume=True)
     with pytest.raises(faultnet.InvalidParameterError, match="seed_entropy"):
@@ -251,7 +238,7 @@ def test_a_finished_catalog_is_extended_as_one_longer_run(tmp_path, small, capsy
     assert more.events["event"].iloc[0] == 1000
     # on disk: the file itself grows to 3000 events, killed once on the way
     with pytest.raises(Crash):
-        _run(model, out, extend=True, on_commit=_crash_after(2))
+        _run(model, out, extend=True, on_commit=crash_after(2))
     assert len(read_catalog(out).events) == 1000  # the shorter catalog is kept meanwhile
     report = _run(model, out, extend=True)
     assert report.status == "resumed" and report.resumed_from > 1000

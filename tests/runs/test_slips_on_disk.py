@@ -5,6 +5,7 @@ import os
 import numpy as np
 import pandas as pd
 import pytest
+from crash_hooks import Crash, crash_after
 
 import faultnet
 from faultnet.exceptions import CatalogError, InvalidParameterError
@@ -13,18 +14,6 @@ from faultnet.runs.checkpoint import checkpoint_dir
 from faultnet.runs.long_run import simulate_to_parquet
 
 N = 1200
-
-
-class Crash(Exception):
-    pass
-
-
-def _crash_after(n):
-    def on_commit(n_chunks):
-        if n_chunks == n:
-            raise Crash
-
-    return on_commit
 
 
 @pytest.fixture(scope="module")
@@ -69,12 +58,12 @@ def test_a_network_of_faults_writes_its_fault_slips_without_record_slips(tmp_pat
         faultnet.read_slips(out)
 
 
-@pytest.mark.parametrize("crash_after", [1, 4])
-def test_resumed_slips_are_bit_identical(tmp_path, faults, crash_after):
+@pytest.mark.parametrize("commits", [1, 4])
+def test_resumed_slips_are_bit_identical(tmp_path, faults, commits):
     model, ref = faults
     out = str(tmp_path / "net.parquet")
     with pytest.raises(Crash):
-        _run(model, out, record_slips=True, on_commit=_crash_after(crash_after))
+        _run(model, out, record_slips=True, on_commit=crash_after(commits))
     assert os.path.isdir(checkpoint_dir(out)) and not os.path.exists(out)
     rep = _run(model, out, record_slips=True, resume=True)
     assert rep.status == "resumed"
@@ -95,7 +84,7 @@ def test_an_extension_records_the_slips_of_one_longer_run(tmp_path, faults):
     out = str(tmp_path / "net.parquet")
     _run(model, out, n=500, record_slips=True)
     with pytest.raises(Crash):
-        _run(model, out, extend=True, record_slips=True, on_commit=_crash_after(2))
+        _run(model, out, extend=True, record_slips=True, on_commit=crash_after(2))
     assert len(faultnet.read_slips(out)["event"].unique()) == 500  # still the shorter run
     _run(model, out, extend=True, record_slips=True)
     pd.testing.assert_frame_equal(faultnet.read_slips(out), ref.slips)
@@ -115,7 +104,7 @@ def test_resume_with_another_record_slips_is_refused(tmp_path, faults):
     model, _ = faults
     out = str(tmp_path / "net.parquet")
     with pytest.raises(Crash):
-        _run(model, out, record_slips=True, on_commit=_crash_after(1))
+        _run(model, out, record_slips=True, on_commit=crash_after(1))
     with pytest.raises(InvalidParameterError, match="record_slips: checkpoint has True"):
         _run(model, out, resume=True)
 
@@ -124,7 +113,7 @@ def test_a_damaged_slips_chunk_is_refused_on_resume(tmp_path, faults):
     model, _ = faults
     out = str(tmp_path / "net.parquet")
     with pytest.raises(Crash):
-        _run(model, out, record_slips=True, on_commit=_crash_after(2))
+        _run(model, out, record_slips=True, on_commit=crash_after(2))
     part = os.path.join(checkpoint_dir(out), "slips-000001.parquet")
     with open(part, "r+b") as fh:
         fh.seek(20)
@@ -205,7 +194,7 @@ def test_uncommitted_slips_chunks_are_discarded_on_resume(tmp_path, faults):
     model, ref = faults
     out = str(tmp_path / "net.parquet")
     with pytest.raises(Crash):
-        _run(model, out, record_slips=True, on_commit=_crash_after(2))
+        _run(model, out, record_slips=True, on_commit=crash_after(2))
     wd = checkpoint_dir(out)
     for name in ("chunk", "slips", "fault_slips"):  # a chunk 2 the checkpoint does not cover
         src = os.path.join(wd, f"{name}-000001.parquet")
