@@ -4,7 +4,7 @@ For each workload and accuracy level the table gives the entry kernel and crossi
 that ``RunOptions(rtol=...)`` chooses, and the share of the work each path carried:
 ``solo`` (events that were one free block's cached slip), ``interp`` (crossings located by
 interpolation, per event), ``partial`` (block-steps of exact crossings' partial steps, as a
-share of all block-steps), ``landed`` (joins landed by the exact treatment, per event).  A path
+share of all block-steps).  A path
 whose column is zero everywhere is run by no calibrated setting.
 
     python benchmarks/code_paths.py                 # 20,000 events per row
@@ -51,7 +51,6 @@ def row(name, graph, alpha, level, n_events):
         f"| {md['crossings']} | {md['solo_events'] / n_events:.2f} "
         f"| {md['interpolated_crossings'] / n_events:.1f} "
         f"| {md['partial_block_steps'] / steps:.3f} "
-        f"| {md['landed_joins'] / n_events:.2f} |"
     )
 
 
@@ -59,8 +58,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--events", type=int, default=20_000)
     args = parser.parse_args(argv)
-    print("| workload | level | entry | crossings | solo | interp | partial | landed |")
-    print("|---|---|---|---|---|---|---|---|---|")
+    print("| workload | level | entry | crossings | solo | interp | partial |")
+    print("|---|---|---|---|---|---|---|")
     for name, (graph, alpha) in workloads(rng=7).items():
         for level in RTOLS:
             print(row(name, graph, alpha, level, args.events), flush=True)

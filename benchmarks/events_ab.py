@@ -38,7 +38,7 @@ import time
 import numpy as np
 from run import SIGMA, WORKLOADS, K, _warm_state, build_graph
 
-COUNTERS = ("partial_block_steps", "landed_joins", "interpolated_crossings")
+COUNTERS = ("partial_block_steps", "interpolated_crossings")
 
 
 def _model(wid):

@@ -31,7 +31,7 @@ import time
 
 #: kernel modules whose compiled functions get symbols
 MODULES = (
-    "events", "slip", "solo", "physics", "interp", "late_joins", "landing", "stepping", "roots",
+    "events", "slip", "solo", "physics", "interp", "late_joins", "stepping", "roots",
     "dopri", "crossing", "tree", "tableau", "response", "work",
 )  # fmt: skip
 

@@ -61,6 +61,7 @@ def cmd_simulate(args, out):
         check_catalog_path(args.out, "--out")
     elif args.record_slips:
         raise InvalidParameterError("--record-slips needs --out FILE: the slips go next to it")
+    _check_kelvin(args)
     tic = time.perf_counter()
     report = run_from_spec(
         args.graph,
@@ -82,6 +83,8 @@ def cmd_simulate(args, out):
         record_slips=args.record_slips,
         model=args.model,
         ofc_alpha=args.ofc_alpha,
+        nu=args.nu,
+        eta=args.eta,
     )
     _print_run(args, report, time.perf_counter() - tic, out)
     md = report.metadata
@@ -100,6 +103,26 @@ def cmd_simulate(args, out):
         for path in _side_files(report.path):
             print(f"wrote {path} ({_size(path)})", file=out)
     return EXIT_OK
+
+
+def _check_kelvin(args):
+    """Refuse ``--nu`` and ``--eta`` (the Carlson-Langer model's) with ``--model ofc``."""
+    given = [f"--{name}" for name in ("nu", "eta") if getattr(args, name) is not None]
+    if given and args.model == "ofc":
+        raise InvalidParameterError(
+            f"{' and '.join(given)} {'are' if len(given) > 1 else 'is'} the Carlson-Langer "
+            "model's (the plate's velocity during events, the springs' viscous coupling): the "
+            "OFC automaton (--model ofc) has neither; leave "
+            f"{'them' if len(given) > 1 else 'it'} out"
+        )
+
+
+def _kelvin_text(md) -> str:
+    """`` nu=... eta=...`` of a run's metadata, each only where the run has it (not 0)."""
+    parts = [f" {name}={md[name]}" for name in ("nu", "eta") if md.get(name) is not None]
+    if md.get("eta_heterogeneous"):
+        parts.append(" (per-edge eta)")
+    return "".join(parts)
 
 
 def _side_files(path):
@@ -135,7 +158,7 @@ def _print_run(args, report, elapsed, out):
         )
         return
     print(
-        f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']} "
+        f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']}{_kelvin_text(md)} "
         f"seed={md['seed_entropy']}",
         file=out,
     )
@@ -243,6 +266,8 @@ _SHOW = [
     "k",
     "sigma",
     "alpha",
+    "nu",
+    "eta",
     "replica",
     "events",
     "b_mle",
@@ -262,6 +287,9 @@ def _print_table(table, out):
     if "model" in table and (table["model"] == "ofc").any():  # the automaton: no friction
         show[show.index("graph") + 1 : show.index("graph") + 1] = ["model"]
         show.remove("sigma")
+    for name in ("nu", "eta"):  # shown where some point has them
+        if name not in table or not (table[name].notna() & (table[name] != 0)).any():
+            show.remove(name)
     shown = table[show].copy()
     with pd.option_context(
         "display.max_rows", None, "display.width", 200, "display.max_colwidth", 40

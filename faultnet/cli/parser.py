@@ -65,10 +65,12 @@ SIMULATE_HELP = """\
 Run a Carlson-Langer model on a graph and write its event catalog (Parquet).
 
 GRAPH is a graph spec:
-  chain:N | ring:N | square:RxC[:periodic] | triangular:RxC[:periodic]
+  chain:N[:reach=R][:kc=K] | ring:N[:reach=R][:kc=K] (springs to the R nearest
+  neighbours on each side, each k_c/2R with kc) | square:RxC[:periodic|:fixed] |
+  triangular:RxC[:periodic|:fixed]
   percolation:square|triangular:RxC[:periodic]:p=P|pc[:largest|:all][:prune][:seed=S]
   a GraphML (.graphml) or node-link JSON (.json) file; graph attributes k, sigma,
-  alpha set the defaults, edge k and node sigma/alpha set single springs / blocks.
+  alpha set the defaults, edge k/eta and node sigma/alpha set single springs / blocks.
 
 The catalog is written in chunks and checkpointed; after a kill, the same
 command with --resume continues from the last checkpoint, and the catalog is
@@ -76,6 +78,7 @@ the same, bit for bit, as an uninterrupted run with the same seed.
 
 examples:
   faultnet simulate ring:2000 --alpha 2 --events 1e6 --seed 1 --out ring.parquet
+  faultnet simulate ring:2000 --nu 0.01 --eta 0.1 --events 1e5 --out viscous.parquet
   faultnet simulate percolation:square:150x150:p=0.5927 --events 1e6 --out perc.parquet
   faultnet simulate --resume --out ring.parquet      # continue a killed run
   faultnet simulate --continue --out ring.parquet -n 200000   # extend a finished run
@@ -102,6 +105,7 @@ sweep file:
   alpha = [0.5, 1.0, 2.0]
   k = 16
   sigma = 0.01
+  # nu = [0.0, 0.01]; eta = 0.1   (the plate during events, viscous springs; default 0)
   events = 20000
   replicas = 2
   seed = 12345
@@ -166,6 +170,19 @@ def _add_simulate(sub):
     p.add_argument("--k", type=_finite, help="spring constant (default 16, or the graph file's)")
     p.add_argument("--sigma", type=_finite, help="friction drop in (0, 1) (default 0.01)")
     p.add_argument("--alpha", type=_finite, help="velocity weakening >= 0 (default 1)")
+    p.add_argument(
+        "--nu",
+        type=_finite,
+        metavar="NU",
+        help="velocity >= 0 of the loading plate during slip events (default 0: at rest)",
+    )
+    p.add_argument(
+        "--eta",
+        type=_finite,
+        metavar="ETA",
+        help="viscous coupling >= 0 of the springs (default 0; edge eta of a graph file sets "
+        "single springs)",
+    )
     p.add_argument(
         "--seed",
         type=_nonneg_int,

@@ -293,9 +293,12 @@ def format_metadata(md) -> str:
             f"({md.get('update')} topplings){het}"
         )
     else:
+        kelvin = "".join(f" {name}={md[name]}" for name in ("nu", "eta") if name in md)
+        if md.get("eta_heterogeneous"):
+            het += "  (per-edge eta)"
         lines.append(
-            f"parameters  k={md.get('k')} sigma={md.get('sigma')} alpha={md.get('alpha')} "
-            f"dt={md.get('dt')}{het}"
+            f"parameters  k={md.get('k')} sigma={md.get('sigma')} alpha={md.get('alpha')}"
+            f"{kelvin} dt={md.get('dt')}{het}"
         )
     seed = f"SeedSequence entropy {md.get('seed_entropy')}, spawn key {md.get('seed_spawn_key')}"
     if md.get("graph_seed_entropy") is not None:

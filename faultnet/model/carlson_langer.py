@@ -14,10 +14,13 @@ from faultnet.exceptions import InvalidParameterError
 from faultnet.model.faults import fault_numbers
 from faultnet.model.springs import (
     as_float,
+    check_eta,
     check_graph,
     check_k,
     check_wall,
+    edge_values,
     node_values,
+    pattern_values,
     spring_matrix,
 )
 
@@ -39,6 +42,11 @@ def _check_alpha(value, where):
         raise InvalidParameterError(f"alpha must be finite and >= 0; got {value!r}{where}")
 
 
+def _check_nu(value, where):
+    if not (math.isfinite(value) and value >= 0.0):
+        raise InvalidParameterError(f"nu must be finite and >= 0; got {value!r}{where}")
+
+
 class SparseGraph:
     """A graph given by a sparse adjacency matrix, for lattices too big for networkx.
 
@@ -48,7 +56,8 @@ class SparseGraph:
     In :class:`CarlsonLanger` the spring between ``i`` and ``j`` is
     ``k * A[i, j]`` (the values are multipliers of the model's ``k``; a 0/1
     pattern gives uniform springs), and the optional per-block ``sigma``,
-    ``alpha`` and ``wall`` arrays play the part of node attributes.
+    ``alpha`` and ``wall`` arrays play the part of node attributes, the optional
+    ``eta`` matrix the part of the edge attribute ``eta``.
 
     Parameters
     ----------
@@ -59,6 +68,10 @@ class SparseGraph:
     wall : array_like, shape (n,), optional
         Frame springs per block (finite, >= 0; see ``boundary="fixed"`` in
         :mod:`faultnet.graphs.builders`), each of the model's ``k``.
+    eta : scipy.sparse matrix or array, shape (n, n), optional
+        The viscous coupling of every spring (symmetric, finite, >= 0), overriding the
+        model's scalar ``eta``: entries only where ``adjacency`` has a spring, a spring
+        without an entry has ``eta = 0``.  Without it every spring has the model's ``eta``.
     name : str, optional
         Description used in metadata (``graph.graph["name"]``).
 
@@ -72,7 +85,7 @@ class SparseGraph:
     65.0
     """
 
-    def __init__(self, adjacency, *, sigma=None, alpha=None, wall=None, name=None):
+    def __init__(self, adjacency, *, sigma=None, alpha=None, wall=None, eta=None, name=None):
         import scipy.sparse as sp
 
         if not sp.issparse(adjacency):
@@ -107,6 +120,7 @@ class SparseGraph:
             bad = np.flatnonzero(~(np.isfinite(self.node_wall) & (self.node_wall >= 0)))
             if bad.size:
                 check_wall(float(self.node_wall[bad[0]]), f" at node {int(bad[0])}")
+        self.edge_eta = None if eta is None else self._per_spring_eta(eta, mat)
         self.graph = {"name": name or f"SparseGraph({n} nodes, {mat.nnz // 2} springs)"}
 
     @staticmethod
@@ -117,6 +131,32 @@ class SparseGraph:
         if arr.shape != (n,):
             raise InvalidParameterError(f"{name} must have shape ({n},); got {arr.shape}")
         return arr
+
+    @staticmethod
+    def _per_spring_eta(eta, adjacency):
+        """The ``eta`` matrix laid out as ``adjacency.data`` (checked: symmetric, finite,
+        >= 0, on springs only)."""
+        import scipy.sparse as sp
+
+        n = adjacency.shape[0]
+        if not sp.issparse(eta):
+            eta = np.asarray(eta, dtype=np.float64)
+        if eta.shape != (n, n):
+            raise InvalidParameterError(f"eta must have shape ({n}, {n}); got {eta.shape}")
+        mat = sp.csr_matrix(eta, dtype=np.float64)
+        mat.sum_duplicates()
+        mat.eliminate_zeros()
+        coo = mat.tocoo()
+        bad = np.flatnonzero(~(np.isfinite(coo.data) & (coo.data >= 0)))
+        if bad.size:
+            i, j = int(coo.row[bad[0]]), int(coo.col[bad[0]])
+            check_eta(float(coo.data[bad[0]]), f" on edge ({i}, {j})")
+        if (mat != mat.T).nnz:
+            raise InvalidParameterError("eta must be symmetric (the dashpots act both ways)")
+        try:
+            return pattern_values(adjacency, coo.row, coo.col, coo.data)
+        except InvalidParameterError as exc:
+            raise InvalidParameterError(f"eta: {exc}") from None
 
     def number_of_nodes(self) -> int:
         """Number of blocks."""
@@ -144,6 +184,12 @@ class CarlsonLanger:
     tied by ``wall_i`` frame springs of constant ``k`` to a rigid frame at rest at
     ``x = 0``, where the plate starts (``u = 0``).
 
+    As Carlson and Langer wrote the model, the plate also moves during slip events, at
+    velocity ``nu`` (``du/dt = nu``), and every spring carries a Kelvin dashpot ``eta_ij``
+    (edge attribute ``eta`` overrides the scalar ``eta``): a slipping block obeys
+    ``x_i'' = F_i + sum_j eta_ij (v_j - v_i) - phi(v_i)``.  ``nu = 0`` and ``eta = 0`` (the
+    defaults) give the plate at rest during events and springs without viscosity.
+
     Parameters
     ----------
     graph : networkx.Graph or SparseGraph
@@ -154,6 +200,13 @@ class CarlsonLanger:
     k, sigma, alpha : float
         Default spring constant (> 0), friction drop (in (0, 1)) and velocity
         weakening rate (>= 0) for edges and nodes without attributes.
+    nu : float
+        Velocity of the loading plate during slip events (finite, >= 0; default 0: the
+        plate stands still while blocks slip).
+    eta : float
+        Default viscous coupling of the springs (finite, >= 0; default 0) for edges without
+        the attribute ``eta``; on a :class:`SparseGraph`, for every spring unless the graph
+        has its own ``eta`` matrix.
 
     Attributes
     ----------
@@ -167,6 +220,9 @@ class CarlsonLanger:
         Per-block friction parameters in node order.
     wall_values : numpy.ndarray
         Frame springs per block (node attribute ``wall``, 0 where unset), node order.
+    eta_values : numpy.ndarray
+        The viscous coupling ``eta_ij`` of every stored entry of ``adjacency``, laid out as
+        ``adjacency.data`` (the same ``indices`` and ``indptr``; symmetric, float64).
     faults : list or None
         The fault labels of a network of faults (node attribute ``fault``, set on every
         block or on none), in order of first appearance; None without them.
@@ -181,17 +237,28 @@ class CarlsonLanger:
     (5, 32.0)
     >>> model.with_params(alpha=2.0).alpha
     2.0
+
+    The plate moving during events and viscous springs:
+
+    >>> model = faultnet.CarlsonLanger(faultnet.graphs.ring(5), nu=0.01, eta=0.1)
+    >>> model.nu, model.eta
+    (0.01, 0.1)
+    >>> model.viscous, model.eta_values.shape == model.adjacency.data.shape
+    (True, True)
     """
 
     graph: nx.Graph
     k: float = 16.0
     sigma: float = 0.01
     alpha: float = 1.0
+    nu: float = 0.0
+    eta: float = 0.0
     nodes: list = field(init=False, repr=False)
     adjacency: sp.csr_matrix = field(init=False, repr=False)
     sigma_values: np.ndarray = field(init=False, repr=False)
     alpha_values: np.ndarray = field(init=False, repr=False)
     wall_values: np.ndarray = field(init=False, repr=False)
+    eta_values: np.ndarray = field(init=False, repr=False)
     faults: list | None = field(init=False, repr=False, default=None)
     fault_number: np.ndarray | None = field(init=False, repr=False, default=None)
 
@@ -201,9 +268,13 @@ class CarlsonLanger:
         set_(self, "k", as_float(self.k, "k"))
         set_(self, "sigma", as_float(self.sigma, "sigma"))
         set_(self, "alpha", as_float(self.alpha, "alpha"))
+        set_(self, "nu", as_float(self.nu, "nu"))
+        set_(self, "eta", as_float(self.eta, "eta"))
         check_k(self.k, "")
         _check_sigma(self.sigma, "")
         _check_alpha(self.alpha, "")
+        _check_nu(self.nu, "")
+        check_eta(self.eta, "")
         if isinstance(g, SparseGraph):
             self._init_sparse(g)
             return
@@ -212,6 +283,7 @@ class CarlsonLanger:
         index = {node: i for i, node in enumerate(nodes)}
         set_(self, "nodes", nodes)
         set_(self, "adjacency", spring_matrix(g, index, self.k))
+        set_(self, "eta_values", edge_values(g, index, self.adjacency, "eta", self.eta, check_eta))
         set_(self, "sigma_values", node_values(g, "sigma", self.sigma, _check_sigma))
         set_(self, "alpha_values", node_values(g, "alpha", self.alpha, _check_alpha))
         set_(self, "wall_values", node_values(g, "wall", 0.0, check_wall))
@@ -235,11 +307,27 @@ class CarlsonLanger:
             set_(self, f"{name}_values", arr)
         wall = np.zeros(n) if g.node_wall is None else g.node_wall.copy()
         set_(self, "wall_values", wall)
+        nnz = self.adjacency.nnz
+        eta = np.full(nnz, self.eta) if g.edge_eta is None else g.edge_eta.copy()
+        set_(self, "eta_values", eta)
 
     @property
     def n(self) -> int:
         """Number of blocks."""
         return len(self.nodes)
+
+    @property
+    def viscous(self) -> bool:
+        """True when some spring has a viscous coupling (an ``eta`` value > 0)."""
+        return bool(np.any(self.eta_values > 0.0))
+
+    def _viscosity(self):
+        """The matrix of the ``eta_ij`` (CSR, the pattern of ``adjacency``) and its row sums."""
+        import scipy.sparse as sp
+
+        adj = self.adjacency
+        eta = sp.csr_matrix((self.eta_values, adj.indices, adj.indptr), shape=adj.shape)
+        return eta, np.asarray(eta.sum(axis=1)).ravel()
 
     @property
     def laplacian(self) -> sp.csr_matrix:
@@ -279,24 +367,39 @@ class CarlsonLanger:
 
     @cached_property
     def block_classes(self) -> np.ndarray:
-        """Class index per block: blocks with equal stiffness, sigma and alpha share one.
+        """Class index per block: blocks with equal stiffness, sigma and alpha (and, with
+        viscous springs, equal total ``eta``, the sum over the block's springs) share one.
 
         A block slipping alone moves the same way in every block of its class
         (the simulator caches that solo slip per class).  Computed once.
         """
         cols = (self.stiffness, self.sigma_values, self.alpha_values)
+        if self.viscous:
+            cols += (self._viscosity()[1],)
         if all(np.all(c == c[0]) for c in cols):
             return np.zeros(self.n, dtype=np.int64)
         _, inv = np.unique(np.column_stack(cols), axis=0, return_inverse=True)
         return inv.astype(np.int64).ravel()
 
-    def forces(self, x, u=0.0) -> np.ndarray:
+    def forces(self, x, u=0.0, v=None) -> np.ndarray:
         """Spring force ``F_i = sum_j k_ij (x_j - x_i) + (u - x_i) - k wall_i x_i`` on every
-        block."""
-        x = np.asarray(x, dtype=np.float64)
-        return -(self.laplacian @ x) + (u - x) - self.frame * x
+        block; with the velocities ``v``, plus the viscous force
+        ``sum_j eta_ij (v_j - v_i)`` of the dashpots (none without viscous springs).
 
-    def with_params(self, *, k=None, sigma=None, alpha=None) -> CarlsonLanger:
+        >>> import faultnet
+        >>> m = faultnet.CarlsonLanger(faultnet.graphs.chain(2), k=1.0, eta=0.5)
+        >>> m.forces([0.0, 0.0], u=1.0, v=[0.0, 2.0]).tolist()
+        [2.0, 0.0]
+        """
+        x = np.asarray(x, dtype=np.float64)
+        force = -(self.laplacian @ x) + (u - x) - self.frame * x
+        if v is not None and self.viscous:
+            v = np.asarray(v, dtype=np.float64)
+            eta, total = self._viscosity()
+            force += eta @ v - total * v
+        return force
+
+    def with_params(self, *, k=None, sigma=None, alpha=None, nu=None, eta=None) -> CarlsonLanger:
         """A model on the same graph with some scalar parameters replaced.
 
         Per-edge and per-node attributes of the graph still take precedence.
@@ -306,6 +409,8 @@ class CarlsonLanger:
             k=self.k if k is None else k,
             sigma=self.sigma if sigma is None else sigma,
             alpha=self.alpha if alpha is None else alpha,
+            nu=self.nu if nu is None else nu,
+            eta=self.eta if eta is None else eta,
         )
 
     @property
@@ -326,11 +431,18 @@ class CarlsonLanger:
         }
         if np.any(self.wall_values):  # only then: the metadata of other runs stays as it was
             params["frame_springs"] = float(self.wall_values.sum())
+        # nu and eta likewise only where they are not 0
+        if self.nu:
+            params["nu"] = self.nu
+        if self.eta or self.viscous:
+            params["eta"] = self.eta
+            params["eta_heterogeneous"] = bool(np.any(self.eta_values != self.eta))
         return params
 
     def __repr__(self):
         p = self.params
+        kelvin = "".join(f", {name}={p[name]}" for name in ("nu", "eta") if name in p)
         return (
             f"CarlsonLanger(graph={p['graph']!r}, n={p['n_blocks']}, k={self.k}, "
-            f"sigma={self.sigma}, alpha={self.alpha})"
+            f"sigma={self.sigma}, alpha={self.alpha}{kelvin})"
         )

@@ -22,7 +22,17 @@ import numpy as np
 
 from faultnet.exceptions import InvalidParameterError
 
-__all__ = ["as_float", "check_graph", "check_k", "check_wall", "node_values", "spring_matrix"]
+__all__ = [
+    "as_float",
+    "check_eta",
+    "check_graph",
+    "check_k",
+    "check_wall",
+    "edge_values",
+    "node_values",
+    "pattern_values",
+    "spring_matrix",
+]
 
 
 def check_k(value, where):
@@ -31,6 +41,13 @@ def check_k(value, where):
         raise InvalidParameterError(
             f"spring constant k must be finite and > 0; got {value!r}{where}"
         )
+
+
+def check_eta(value, where):
+    """Refuse a viscous coupling ``eta`` that is not finite and >= 0 (``where``: the edge, or
+    "")."""
+    if not (math.isfinite(value) and value >= 0.0):
+        raise InvalidParameterError(f"eta must be finite and >= 0; got {value!r}{where}")
 
 
 def check_wall(value, where):
@@ -92,6 +109,60 @@ def spring_matrix(g, index, k):
     ).tocsr()
     mat.sort_indices()
     return mat
+
+
+def pattern_values(adjacency, rows, cols, values, fill=0.0):
+    """``values`` at the entries ``(rows, cols)`` laid out as ``adjacency.data``: one value per
+    stored entry of ``adjacency``, in its CSR order (``fill`` where none is given).
+
+    Every ``(row, col)`` must be a stored entry of ``adjacency`` (a spring); the first that is
+    not is refused.  Give both directions of a symmetric value.
+
+    >>> import scipy.sparse as sp
+    >>> A = sp.csr_matrix([[0.0, 1.0, 1.0], [1.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
+    >>> pattern_values(A, [0, 1], [1, 0], [0.5, 0.5]).tolist()
+    [0.5, 0.0, 0.5, 0.0]
+    """
+    n = adjacency.shape[0]
+    row_of = np.repeat(np.arange(n, dtype=np.int64), np.diff(adjacency.indptr))
+    stored = row_of * n + adjacency.indices.astype(np.int64)
+    order = np.argsort(stored, kind="stable")
+    keys = np.asarray(rows, dtype=np.int64) * n + np.asarray(cols, dtype=np.int64)
+    at = np.searchsorted(stored[order], keys)
+    found = at < stored.size
+    found[found] = stored[order][at[found]] == keys[found]
+    if not np.all(found):
+        bad = int(np.flatnonzero(~found)[0])
+        raise InvalidParameterError(
+            f"a value is given between blocks {int(np.asarray(rows)[bad])} and "
+            f"{int(np.asarray(cols)[bad])}, which no spring links"
+        )
+    out = np.full(stored.size, float(fill), dtype=np.float64)
+    out[order[at]] = np.asarray(values, dtype=np.float64)
+    return out
+
+
+def edge_values(g, index, adjacency, name, default, check):
+    """Edge attribute ``name`` of every spring (``default`` where unset), checked by ``check``
+    and laid out as ``adjacency.data`` (both directions of each edge, see
+    :func:`pattern_values`); ``adjacency`` is :func:`spring_matrix` of the same graph."""
+    if not any(name in data for _, _, data in g.edges(data=True)):
+        return np.full(adjacency.nnz, float(default))
+    m = g.number_of_edges()
+    rows = np.empty(m, dtype=np.int64)
+    cols = np.empty(m, dtype=np.int64)
+    vals = np.empty(m, dtype=np.float64)
+    for e, (a, b, data) in enumerate(g.edges(data=True)):
+        where = f" on edge ({a!r}, {b!r})"
+        value = as_float(data.get(name, default), name, where)
+        check(value, where)
+        rows[e], cols[e], vals[e] = index[a], index[b], value
+    return pattern_values(
+        adjacency,
+        np.concatenate([rows, cols]),
+        np.concatenate([cols, rows]),
+        np.concatenate([vals, vals]),
+    )
 
 
 def node_values(g, name, default, check):

@@ -4,6 +4,17 @@ output are checked against, and the tables a run writes besides its events.
 ``run.json`` and every catalog record the fields :data:`IDENTITY`; :func:`mismatch` names the
 ones in which a stored run and a call differ (a resume, an extension or ``--resume`` of a
 finished output is then refused, naming them).
+
+The plate's velocity during events ``nu`` and the viscous coupling ``eta`` of a
+Carlson-Langer model are identity fields where they are not 0 (a run records them, as its
+metadata does, only then); a file without them was written with ``nu = eta = 0``, so the runs
+of before resume as they did, and a change of either is refused by name.  Per-edge ``eta``
+values are in the ``graph_hash``.
+
+>>> mismatch({"graph_hash": "h"}, {"graph_hash": "h", "nu": 0.01})
+['nu: checkpoint has 0.0, this call 0.01']
+>>> mismatch({"graph_hash": "h", "eta": 0.0}, {"graph_hash": "h"})
+[]
 """
 
 from __future__ import annotations
@@ -19,11 +30,16 @@ IDENTITY = (
     "options",
     "seed_entropy",
     "seed_spawn_key",
+    "nu",
+    "eta",
     "graph_hash",
     "record_slips",
 )
 #: the value of an identity field that files written before it existed lack
-IDENTITY_DEFAULTS = {"record_slips": False}
+IDENTITY_DEFAULTS = {"record_slips": False, "nu": 0.0, "eta": 0.0}
+#: identity fields a run records only where they are not 0: the model's parameters of that
+#: name (in its metadata only then too)
+_MODEL_FIELDS = ("nu", "eta")
 
 
 def side_tables(model, record_slips) -> tuple:
@@ -41,6 +57,7 @@ def run_identity(model, n_events, dt, options, seq, record_slips=False) -> dict:
     from faultnet.model.identity import graph_hash
     from faultnet.runs.models import options_record
 
+    params = model.params
     return {
         "n_events": int(n_events),
         "dt": float(dt),
@@ -49,6 +66,7 @@ def run_identity(model, n_events, dt, options, seq, record_slips=False) -> dict:
         "seed_spawn_key": list(seq.spawn_key),
         "graph_hash": graph_hash(model),
         "record_slips": bool(record_slips),
+        **{key: float(params[key]) for key in _MODEL_FIELDS if key in params},
     }
 
 

@@ -7,6 +7,7 @@ nothing and draws no random numbers.
 
 from __future__ import annotations
 
+import math
 import os
 import re
 from dataclasses import dataclass, field
@@ -17,8 +18,9 @@ from faultnet.exceptions import GraphSpecError
 __all__ = ["GRAPH_SPEC_FORMS", "GraphSpec", "parse_graph_spec"]
 
 GRAPH_SPEC_FORMS = (
-    "chain:N                  e.g. chain:100",
-    "ring:N                   e.g. ring:2000",
+    "chain:N[:reach=R][:kc=K]  e.g. chain:100, chain:500:reach=3",
+    "ring:N[:reach=R][:kc=K]   e.g. ring:2000, ring:2000:reach=10:kc=100 (R springs on each "
+    "side, each of K/2R)",
     "square:RxC[:periodic|:fixed]  e.g. square:150x150:periodic (square:L means LxL)",
     "triangular:RxC[:periodic|:fixed]  e.g. triangular:150x150",
     "percolation:LATTICE:RxC[:periodic|:fixed]:p=P[:largest|:all][:prune][:seed=S]"
@@ -29,6 +31,8 @@ GRAPH_SPEC_FORMS = (
 _GRAPH_FILE_SUFFIXES = (".graphml", ".json")
 #: a lattice's boundary tokens (``open`` is the older name of ``free``)
 _BOUNDARY_TOKENS = ("periodic", "fixed", "free", "open")
+#: the options of a chain or a ring (``k_c=`` is a synonym of ``kc=``)
+_LONG_RANGE_OPTIONS = "reach=R (an integer >= 1) and kc=K (a finite number > 0)"
 
 
 def _spec_error(spec, why):
@@ -63,6 +67,12 @@ class GraphSpec:
         Fixed disorder seed (percolation); None derives it from the run seed.
     path : str or None
         Graph file (``kind == "file"``).
+    reach : int
+        Chains and rings: each block is linked to its ``reach`` nearest neighbours on each
+        side (:func:`faultnet.graphs.ring`); 1 is the nearest-neighbour graph.
+    k_c : float or None
+        Chains and rings: every spring gets ``k = k_c / (2 reach)``; None leaves the
+        model's ``k``.
     """
 
     kind: str
@@ -75,6 +85,8 @@ class GraphSpec:
     prune: bool = False
     seed: int | None = None
     path: str | None = None
+    reach: int = 1
+    k_c: float | None = None
     text: str = field(default="", compare=False)
 
     @property
@@ -91,7 +103,12 @@ class GraphSpec:
     def canonical(self) -> str:
         """The spec in normal form (what is recorded in catalog metadata)."""
         if self.kind in ("chain", "ring"):
-            return f"{self.kind}:{self.size[0]}"
+            out = f"{self.kind}:{self.size[0]}"
+            if self.reach != 1:
+                out += f":reach={self.reach}"
+            if self.k_c is not None:
+                out += f":kc={_format_number(self.k_c)}"
+            return out
         if self.kind == "file":
             return f"file:{self.path}"
         tail = {"periodic": ":periodic", "fixed": ":fixed", "free": ""}[self.boundary]
@@ -104,6 +121,12 @@ class GraphSpec:
         if self.seed is not None:
             out += f":seed={self.seed}"
         return out
+
+
+def _format_number(value):
+    """``value`` as a spec writes it: ``100`` for 100.0, else the float's repr."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
 
 
 def _int_token(spec, token, what):
@@ -137,6 +160,8 @@ def parse_graph_spec(spec) -> GraphSpec:
 
     >>> parse_graph_spec("percolation:square:64x64:p=pc").p
     0.592746
+    >>> parse_graph_spec("ring:2000:reach=10:kc=100.0").canonical
+    'ring:2000:reach=10:kc=100'
     >>> parse_graph_spec("hexagonal:10")  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
@@ -156,9 +181,7 @@ def parse_graph_spec(spec) -> GraphSpec:
     kind = parts[0].lower()
     args = parts[1:]
     if kind in ("chain", "ring"):
-        if len(args) != 1:
-            raise _spec_error(spec, f"{kind} takes exactly one size, e.g. {kind}:200")
-        return GraphSpec(kind=kind, size=(_int_token(spec, args[0], "the size"),), text=spec)
+        return _parse_chain_or_ring(spec, kind, args)
     if kind in ("square", "triangular"):
         if not args or len(args) > 2:
             raise _spec_error(
@@ -180,6 +203,43 @@ def parse_graph_spec(spec) -> GraphSpec:
             spec, "graph files must end in .graphml or .json (or be given as file:PATH)"
         )
     raise _spec_error(spec, f"unknown graph kind {kind!r}")
+
+
+def _parse_chain_or_ring(spec, kind, args):
+    if not args:
+        raise _spec_error(spec, f"{kind} takes a size, e.g. {kind}:200")
+    n = _int_token(spec, args[0], "the size")
+    given = {}
+    for token in args[1:]:
+        name, sep, value = token.partition("=")
+        name = {"k_c": "kc"}.get(name.lower(), name.lower())
+        if not sep or name not in ("reach", "kc"):
+            raise _spec_error(
+                spec, f"unknown {kind} option {token!r}; allowed: {_LONG_RANGE_OPTIONS}"
+            )
+        if name in given:
+            raise _spec_error(spec, f"{name}= is given twice")
+        given[name] = value
+    reach = 1
+    if "reach" in given:
+        if not re.fullmatch(r"\d+", given["reach"]) or int(given["reach"]) < 1:
+            raise _spec_error(spec, f"reach must be an integer >= 1, got {given['reach']!r}")
+        reach = int(given["reach"])
+        limit = (n - 1) // 2 if kind == "ring" else max(n - 1, 1)
+        if reach > limit:
+            bound = "(N - 1) // 2 on a ring" if kind == "ring" else "N - 1 on a chain"
+            raise _spec_error(
+                spec, f"reach must be at most {bound}, here {limit}; got reach={reach}"
+            )
+    k_c = None
+    if "kc" in given:
+        try:
+            k_c = float(given["kc"])
+        except ValueError:
+            k_c = math.nan
+        if not (math.isfinite(k_c) and k_c > 0.0):
+            raise _spec_error(spec, f"kc must be a finite number > 0, got {given['kc']!r}")
+    return GraphSpec(kind=kind, size=(n,), reach=reach, k_c=k_c, text=spec)
 
 
 def _parse_percolation(spec, args):

@@ -2,7 +2,7 @@
 
 :func:`run_from_spec` builds the model of a graph spec (:mod:`faultnet.runs.specs`)
 and runs it with :func:`faultnet.runs.long_run.simulate_to_parquet`.  The request
-(graph, events, k, sigma, alpha, dt, transient) is stored in the run's
+(graph, events, k, sigma, alpha, dt, transient, and nu and eta where not 0) is stored in the run's
 ``run.json`` and in the catalog, so a resume needs only the output: the values
 not given are taken from the stored request, and values that are given must
 agree with it.
@@ -39,7 +39,11 @@ _REQUEST_KEYS = (
     "transient",
     "model",
     "ofc_alpha",
+    "nu",
+    "eta",
 )
+#: the Carlson-Langer model's parameters that the graph spec's model leaves at 0
+_KELVIN = ("nu", "eta")
 
 
 def run_from_spec(
@@ -65,6 +69,8 @@ def run_from_spec(
     record_slips=None,
     model=None,
     ofc_alpha=None,
+    nu=None,
+    eta=None,
 ) -> RunReport:
     """:func:`~faultnet.runs.long_run.simulate_to_parquet` for a graph spec.
 
@@ -93,6 +99,10 @@ def run_from_spec(
         Carlson-Langer model, or on ``resume`` the stored one.
     ofc_alpha : float, optional
         The OFC automaton's conservation parameter (:meth:`faultnet.OFC.from_alpha`).
+    nu, eta : float, optional
+        The plate's velocity during events and the springs' viscous coupling of the
+        Carlson-Langer model (:class:`faultnet.CarlsonLanger`; default 0, or on ``resume``
+        the stored ones); refused with ``model="ofc"``.
     chunk_events, checkpoint_interval, transient, resume, force, extend, progress, on_commit
         As for :func:`~faultnet.runs.long_run.simulate_to_parquet`.
 
@@ -106,7 +116,7 @@ def run_from_spec(
         When a value given on ``resume`` differs from the stored request, or a
         graph or the number of events is missing.
     """
-    values = (graph, n_events, k, sigma, alpha, dt, transient, model, ofc_alpha)
+    values = (graph, n_events, k, sigma, alpha, dt, transient, model, ofc_alpha, nu, eta)
     given = dict(zip(_REQUEST_KEYS, values, strict=True))
     job = dict(options=options, seed=seed, extra=extra, progress=progress, on_commit=on_commit)
     job.update(chunk_events=chunk_events, checkpoint_interval=checkpoint_interval)
@@ -130,13 +140,25 @@ def _run(run, given, *, options, seed, extra, **job):
         raise InvalidParameterError("a graph spec is required (e.g. ring:200)")
     if given["n_events"] is None:
         raise InvalidParameterError("the number of events is required (--events N)")
+    kelvin = {name: given[name] for name in _KELVIN if given[name] is not None}
+    if kelvin and given["model"] == "ofc":
+        raise InvalidParameterError(
+            f"{' and '.join(kelvin)} (--{' and --'.join(kelvin)}) "
+            f"{'belong' if len(kelvin) > 1 else 'belongs'} to the Carlson-Langer model (the "
+            "plate's velocity during events, the springs' viscous coupling): the OFC automaton "
+            "has neither; leave them out"
+        )
     seq = seed_sequence(seed)
     model = build_model(
         given["graph"], k=given["k"], sigma=given["sigma"], alpha=given["alpha"], rng=seq,
         model=given["model"], ofc_alpha=given["ofc_alpha"],
     )  # fmt: skip
+    if kelvin:
+        model = model.with_params(**kelvin)
     request = {key: given[key] for key in ("graph", "n_events", "k", "sigma", "alpha", "dt")}
     request["transient"] = given["transient"]
+    # recorded where not 0 (the requests of other runs stay as they were)
+    request.update((name, getattr(model, name)) for name in kelvin if getattr(model, name))
     if given["model"] not in (None, "carlson-langer"):  # requests of 0.2 name no model
         request.update(model=given["model"], ofc_alpha=given["ofc_alpha"])
     md = {"request": request}
@@ -182,7 +204,7 @@ def _take_stored(given, options, seed, run, extend=False):
 
 
 def _differs(key, a, b):
-    if key in ("k", "sigma", "alpha", "dt", "ofc_alpha"):
+    if key in ("k", "sigma", "alpha", "dt", "ofc_alpha", *_KELVIN):
         try:
             return not math.isclose(float(a), float(b), rel_tol=0.0, abs_tol=0.0)
         except (TypeError, ValueError):

@@ -3,8 +3,11 @@
 A *graph spec* names a graph in one token, as on the command line and in
 sweep files::
 
-    chain:N                      open chain of N blocks
-    ring:N                       periodic ring of N blocks (N >= 3)
+    chain:N[:reach=R][:kc=K]     open chain of N blocks
+    ring:N[:reach=R][:kc=K]      periodic ring of N blocks (N >= 3); with reach=R each
+                                 block has springs to its R nearest neighbours on each
+                                 side (R <= (N - 1) // 2 on a ring, N - 1 on a chain),
+                                 with kc=K each spring has k = K / 2R
     square:RxC[:periodic|:fixed] square lattice, R rows x C columns (square:L = LxL);
                                  a free boundary, or periodic, or fixed (frame springs)
     triangular:RxC[:periodic|:fixed]  triangular lattice
@@ -115,9 +118,9 @@ def build_graph(spec, rng=None):
     gs = parse_graph_spec(spec)
     try:
         if gs.kind == "chain":
-            G = graphs.chain(gs.size[0])
+            G = graphs.chain(gs.size[0], reach=gs.reach, k_c=gs.k_c)
         elif gs.kind == "ring":
-            G = graphs.ring(gs.size[0])
+            G = graphs.ring(gs.size[0], reach=gs.reach, k_c=gs.k_c)
         elif gs.kind in ("square", "triangular"):
             G = _lattice(gs.kind, *gs.size, gs.boundary, sparse_ok=True)
         elif gs.kind == "percolation":

@@ -8,7 +8,7 @@ lattice; the square and triangular critical percolation clusters).
 
 Two crossing treatments (``faultnet.solver._kernels.carlson_langer.slip``):
 
-- ``"exact"``: every stop and join is reached by the scheme itself (partial steps, landings),
+- ``"exact"``: every stop and join is reached by the scheme itself (partial steps),
   so events keep the fifth order of the DP5 steps;
 - ``"interpolated"``: every full step is kept, and the crossings inside it are placed from
   what the step computed (``carlson_langer.interp``, ``response``): far cheaper per

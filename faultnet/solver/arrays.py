@@ -293,8 +293,14 @@ class KernelArrays:
             self.nbr,
             model.fault_number,
             model.frame,
+            nu=model.nu,
+            eta=model.eta_values,
         )
         self.ctrl[CTRL_DT] = dt
+        # a lone slip is the same in every block of a class only where the plate is frozen
+        # during events and no block drags its neighbours viscously
+        if model.nu > 0.0 or model.viscous:
+            self.ctrl[CTRL_SOLO_CACHE] = 0.0
         self.kernel = getattr(_kernels(), self.options.entry(model))
         # a network of faults sums each event's slips per fault from the per-block rows
         self.fault_number = model.fault_number

@@ -140,10 +140,24 @@ class RunOptions:
         return dt
 
     def _calibrated(self, model):
-        return step_for_rtol(model, self.rtol, self.method, self.crossings)
+        crossings = "exact" if _moving_or_viscous(model) else self.crossings
+        return step_for_rtol(model, self.rtol, self.method, crossings)
 
     def treatment(self, model) -> str:
-        """The crossing treatment of a run of ``model``: ``"exact"`` or ``"interpolated"``."""
+        """The crossing treatment of a run of ``model``: ``"exact"`` or ``"interpolated"``.
+
+        A model whose plate moves during events (``nu > 0``) or with viscous coupling
+        (``eta > 0``) takes ``"exact"``: the interpolated crossings place joins on a path
+        that has neither term.
+        """
+        if _moving_or_viscous(model):
+            if self.crossings == "interpolated":
+                raise InvalidParameterError(
+                    "crossings='interpolated' is not available with nu > 0 or eta > 0 (the "
+                    "plate moving during events, viscous coupling); leave crossings=None or "
+                    "pass crossings='exact'"
+                )
+            return "exact"
         if self.crossings is not None:
             return self.crossings
         if self.rtol is not None and self.dt is None:
@@ -200,3 +214,8 @@ class RunOptions:
         raise InvalidParameterError(
             f"options must be a RunOptions, a dict or None; got {type(options).__name__}"
         )
+
+
+def _moving_or_viscous(model) -> bool:
+    """Whether ``model``'s plate moves during events or its springs are viscous."""
+    return getattr(model, "nu", 0.0) > 0.0 or bool(getattr(model, "viscous", False))

@@ -133,10 +133,8 @@ class SimulationResult:
         actually done in this call), ``solo_events`` (events taken from a
         cached solo slip, which cost no integration), the part of
         ``block_steps`` spent in partial steps to crossings and their polish
-        (``partial_block_steps``), ``landed_joins`` (the joins reached on a
-        step's interpolant instead of by a partial step) and
-        ``interpolated_crossings`` (stops and joins placed on a step's dense
-        output).
+        (``partial_block_steps``) and ``interpolated_crossings`` (stops and
+        joins placed on a step's dense output).
     """
 
     events: pd.DataFrame

@@ -65,14 +65,30 @@ def omega2_max(model) -> float:
     ``model.top_stiffness + max_i alpha_i^2``: the first term is the largest
     eigenvalue of the stiffness matrix ``I + L`` (estimated from above, at most
     Gershgorin's bound ``max_i (1 + 2 sum_j k_ij)``; :mod:`faultnet.model.spectrum`);
-    the second accounts for the growth rate of the negative damping ``2 alpha``.
+    the second accounts for the growth rate of the negative damping ``2 alpha``; viscous
+    coupling adds the square of its fastest decay rate (:func:`_viscous_rate`).
 
     >>> import faultnet
     >>> ring = faultnet.CarlsonLanger(faultnet.graphs.ring(100), k=16, alpha=1.0)
     >>> omega2_max(ring)
     66.0
     """
-    return float(model.top_stiffness + np.max(model.alpha_values) ** 2)
+    top = model.top_stiffness + np.max(model.alpha_values) ** 2
+    if getattr(model, "viscous", False):
+        top += _viscous_rate(model) ** 2
+    return float(top)
+
+
+def _viscous_rate(model) -> float:
+    """Gershgorin's bound on the viscous coupling's fastest decay rate, ``max_i 2 sum_j eta_ij``.
+
+    A damping rate ``c`` gives an explicit step the time scale ``1 / c``; adding ``c^2`` to
+    the squared top frequency keeps the step's coefficient meaning the same where viscosity
+    is small and shortens the step where it dominates.
+    """
+    indptr = model.adjacency.indptr
+    rows = np.repeat(np.arange(indptr.size - 1), np.diff(indptr))
+    return float(2.0 * np.max(np.bincount(rows, weights=model.eta_values), initial=0.0))
 
 
 def check_method(method):

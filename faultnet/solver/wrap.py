@@ -15,7 +15,6 @@ from faultnet._version import __version__
 from faultnet.exceptions import EventTooLongError, NumericalInstabilityError
 from faultnet.solver._kernels.layout import (
     CNT_INTERPOLATED_CROSSINGS,
-    CNT_LANDED_JOINS,
     CNT_PARTIAL_BLOCK_STEPS,
     CNT_SOLO_EVENTS,
     CNT_TRACE_FULL,
@@ -55,7 +54,6 @@ _STATUS_MESSAGES = {
 _COUNTERS = {
     "solo_events": CNT_SOLO_EVENTS,
     "partial_block_steps": CNT_PARTIAL_BLOCK_STEPS,
-    "landed_joins": CNT_LANDED_JOINS,
     "interpolated_crossings": CNT_INTERPOLATED_CROSSINGS,
 }
 

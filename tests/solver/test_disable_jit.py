@@ -4,7 +4,8 @@ Every kernel is written so that it also runs uncompiled (its decorators then ret
 Python function itself): a debugger or a coverage tool can step through the engine.  The
 uncompiled run must give the compiled run's catalog bit for bit, for both crossing
 treatments: a 6 x 6 periodic lattice (interpolated crossings) and a ring of 12 at
-alpha 2.5 (exact crossings, with partial steps and landed joins).
+alpha 2.5 (exact crossings, with partial steps), and the ring of 12 with the plate moving
+during events and viscous coupling (exact crossings, joins through the plate).
 """
 
 import json
@@ -16,11 +17,12 @@ import pytest
 
 import faultnet
 
-#: the model's graph (a faultnet.graphs.builders function and its arguments), its alpha, and the
-#: crossing treatment that its default options take
+#: the model's graph (a faultnet.graphs.builders function and its arguments), its alpha, the
+#: crossing treatment that its default options take, and its plate velocity and viscosity
 CASES = {
-    "lattice": (["square_lattice", [6, 6], {"periodic": True}], 1.0, "interpolated"),
-    "ring": (["ring", [12], {}], 2.5, "exact"),
+    "lattice": (["square_lattice", [6, 6], {"periodic": True}], 1.0, "interpolated", {}),
+    "ring": (["ring", [12], {}], 2.5, "exact", {}),
+    "plate": (["ring", [12], {}], 1.0, "exact", {"nu": 0.05, "eta": 0.2}),
 }
 N_EVENTS = 60
 #: the metadata counters that say which paths of the engine a run took
@@ -29,7 +31,6 @@ COUNTERS = (
     "block_steps",
     "solo_events",
     "partial_block_steps",
-    "landed_joins",
     "interpolated_crossings",
 )
 
@@ -44,14 +45,14 @@ assert numba.config.DISABLE_JIT
 assert not hasattr(events.run_events_dopri5, "py_func")
 assert not hasattr(dopri.dopri_step, "py_func")
 (name, args, kwargs), alpha = json.loads(sys.argv[1]), float(sys.argv[2])
-n_events = int(sys.argv[3])
+n_events, extra = int(sys.argv[3]), json.loads(sys.argv[4])
 g = getattr(faultnet.graphs.builders, name)(*args, **kwargs)
-model = faultnet.CarlsonLanger(g, k=4, sigma=0.01, alpha=alpha)
+model = faultnet.CarlsonLanger(g, k=4, sigma=0.01, alpha=alpha, **extra)
 r = faultnet.simulate(model, n_events, rng=3, progress=False)
 ev = r.events
 print(json.dumps({
     "crossings": r.metadata["crossings"],
-    "counters": {c: r.metadata[c] for c in sys.argv[4:]},
+    "counters": {c: r.metadata[c] for c in sys.argv[5:]},
     "t": [float(x).hex() for x in ev.t],
     "duration": [float(x).hex() for x in ev.duration],
     "S": [float(x).hex() for x in ev.S],
@@ -63,10 +64,11 @@ print(json.dumps({
 """
 
 
-def _uncompiled(graph, alpha):
+def _uncompiled(graph, alpha, extra):
     env = dict(os.environ, NUMBA_DISABLE_JIT="1")
     spec = json.dumps(graph)
-    args = [sys.executable, "-c", SCRIPT, spec, str(alpha), str(N_EVENTS), *COUNTERS]
+    args = [sys.executable, "-c", SCRIPT, spec, str(alpha), str(N_EVENTS), json.dumps(extra)]
+    args += COUNTERS
     out = subprocess.run(args, env=env, capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr
     return json.loads(out.stdout.strip().splitlines()[-1])
@@ -74,22 +76,22 @@ def _uncompiled(graph, alpha):
 
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_uncompiled_run_gives_the_compiled_catalog(case):
-    graph, alpha, crossings = CASES[case]
-    plain = _uncompiled(graph, alpha)
+    graph, alpha, crossings, extra = CASES[case]
+    plain = _uncompiled(graph, alpha, extra)
     name, args, kwargs = graph
     g = getattr(faultnet.graphs.builders, name)(*args, **kwargs)
-    model = faultnet.CarlsonLanger(g, k=4, sigma=0.01, alpha=alpha)
+    model = faultnet.CarlsonLanger(g, k=4, sigma=0.01, alpha=alpha, **extra)
     r = faultnet.simulate(model, N_EVENTS, rng=3, progress=False)
     ev = r.events
     assert r.metadata["crossings"] == plain["crossings"] == crossings
     assert len(ev) == N_EVENTS
     # the run takes the paths it is meant to test: events of several blocks, and the crossing
-    # treatment's own code (interpolated crossings; partial steps and landed joins)
+    # treatment's own code (interpolated crossings; partial steps)
     assert (ev.n_blocks > 1).sum() >= 10
     if crossings == "interpolated":
         assert r.metadata["interpolated_crossings"] > 0
     else:
-        assert r.metadata["partial_block_steps"] > 0 and r.metadata["landed_joins"] > 0
+        assert r.metadata["partial_block_steps"] > 0
     assert plain["counters"] == {c: r.metadata[c] for c in COUNTERS}
     for col in ("t", "duration", "S"):
         assert plain[col] == [float(x).hex() for x in ev[col]], col

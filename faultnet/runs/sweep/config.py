@@ -13,9 +13,12 @@ Sweep file (TOML)
     alpha = [0.5, 1.0, 2.0]      # number or list of numbers
     k = 16                       # number or list (default: 16, or the graph file's k)
     sigma = 0.01                 # number or list (default: 0.01, or the graph file's)
+    nu = [0.0, 0.01]             # optional number or list: the plate's velocity during events
+    eta = 0.1                    # optional number or list: the springs' viscous coupling
     dt = 0.005                   # optional number or list (default: faultnet.default_dt)
     model = "ofc"                # optional: the OFC automaton instead of the Carlson-Langer
-    ofc_alpha = [0.15, 0.2]      # .. model, with its conservation (or k), no sigma/alpha/dt
+    ofc_alpha = [0.15, 0.2]      # .. model, with its conservation (or k), no sigma/alpha/nu/
+                                 # .. eta/dt
     events = 20000               # events per point (required)
     replicas = 2                 # independent runs per parameter set (default 1)
     seed = 12345                 # root seed (default: fresh entropy, kept in sweep.json)
@@ -35,8 +38,11 @@ Sweep file (TOML)
     p = [0.55, 0.5927, 0.65]     # e.g. graph = "percolation:square:{L}x{L}:p={p}"
 
 Points are numbered in the order ``graph`` (vars varying fastest in the order
-listed), ``k``, ``sigma``, ``alpha``, ``ofc_alpha``, ``dt``, replica.  Random percolation
-graphs get their own disorder per point (from the point's seed).
+listed), ``k``, ``sigma``, ``alpha``, ``nu``, ``eta``, ``ofc_alpha``, ``dt``, replica.  Random
+percolation graphs get their own disorder per point (from the point's seed).  ``nu`` and
+``eta`` (default 0, as :class:`faultnet.CarlsonLanger`'s) are in the points, and in the
+settings compared on reruns, only where the sweep sets them: the folders of sweeps without them
+stay theirs.
 
 >>> cfg = SweepConfig.from_dict({"graph": "ring:{n}", "vars": {"n": [10, 20]},
 ...                              "alpha": [1.0, 2.0], "events": 100, "seed": 5})
@@ -65,6 +71,9 @@ else:  # pragma: no cover
 
 __all__ = ["ALLOWED_KEYS", "ConfigError", "SweepConfig", "as_config", "load_config"]
 
+#: the Carlson-Langer parameters that are in the points only where a sweep sets them
+_KELVIN = ("nu", "eta")
+
 
 @dataclass
 class SweepConfig:
@@ -79,6 +88,8 @@ class SweepConfig:
     k: list = field(default_factory=lambda: [None])
     sigma: list = field(default_factory=lambda: [None])
     alpha: list = field(default_factory=lambda: [None])
+    nu: list = field(default_factory=lambda: [None])
+    eta: list = field(default_factory=lambda: [None])
     ofc_alpha: list = field(default_factory=lambda: [None])
     dt: list = field(default_factory=lambda: [None])
     model: str | None = None
@@ -136,8 +147,8 @@ class SweepConfig:
         if self.seed is None:
             raise ConfigError("sweep.seed is not set; call with_seed() first")
         combos = itertools.product(
-            self.graphs, self.k, self.sigma, self.alpha, self.ofc_alpha, self.dt,
-            range(self.replicas),
+            self.graphs, self.k, self.sigma, self.alpha, self.nu, self.eta, self.ofc_alpha,
+            self.dt, range(self.replicas),
         )  # fmt: skip
         return [
             {
@@ -146,6 +157,11 @@ class SweepConfig:
                 "k": k,
                 "sigma": sigma,
                 "alpha": alpha,
+                **{
+                    name: value
+                    for name, value in (("nu", nu), ("eta", eta))
+                    if getattr(self, name) != [None]
+                },
                 "dt": dt,
                 "replica": rep,
                 "events": self.events,
@@ -154,7 +170,7 @@ class SweepConfig:
                 **({"options": self.options} if self.options else {}),
                 **({"model": self.model, "ofc_alpha": ofc_alpha} if self.model else {}),
             }
-            for index, (graph, k, sigma, alpha, ofc_alpha, dt, rep) in enumerate(combos)
+            for index, (graph, k, sigma, alpha, nu, eta, ofc_alpha, dt, rep) in enumerate(combos)
         ]
 
     def defining(self) -> dict:
@@ -164,6 +180,7 @@ class SweepConfig:
             "k": self.k,
             "sigma": self.sigma,
             "alpha": self.alpha,
+            **{name: getattr(self, name) for name in _KELVIN if getattr(self, name) != [None]},
             "dt": self.dt,
             "events": self.events,
             "replicas": self.replicas,

@@ -89,6 +89,8 @@ def run_point(
         dt=point["dt"],
         model=point.get("model"),
         ofc_alpha=point.get("ofc_alpha"),
+        nu=point.get("nu"),
+        eta=point.get("eta"),
         options=point.get("options"),
         seed=seq,
         chunk_events=chunk,

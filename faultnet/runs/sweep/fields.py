@@ -31,16 +31,18 @@ __all__ = [
     "unknown_key",
 ]
 
-LIST_KEYS = ("k", "sigma", "alpha", "ofc_alpha", "dt")
+LIST_KEYS = ("k", "sigma", "alpha", "nu", "eta", "ofc_alpha", "dt")
 ALLOWED_KEYS = {
     "graph": 'graph spec or list of specs (required), e.g. "ring:200"',
     "events": "events per point, integer > 0 (required)",
     "alpha": "number or list of numbers >= 0",
     "k": "number or list of numbers > 0",
     "sigma": "number or list of numbers in (0, 1)",
+    "nu": "number or list of numbers >= 0: the plate's velocity during slip events (default 0)",
+    "eta": "number or list of numbers >= 0: the springs' viscous coupling (default 0)",
     "dt": "number or list of numbers > 0",
     "model": '"carlson-langer" (default) or "ofc" (the OFC automaton: k or ofc_alpha, no '
-    "sigma, alpha or dt)",
+    "sigma, alpha, nu, eta or dt)",
     "ofc_alpha": 'number or list of numbers > 0: the OFC automaton\'s conservation (model = "ofc")',
     "replicas": "integer >= 1",
     "seed": "integer >= 0",
@@ -58,6 +60,8 @@ _LIST_CHECKS = {
     "k": (lambda v: v > 0, "> 0"),
     "sigma": (lambda v: 0 < v < 1, "in the open interval (0, 1)"),
     "alpha": (lambda v: v >= 0, ">= 0"),
+    "nu": (lambda v: v >= 0, ">= 0"),
+    "eta": (lambda v: v >= 0, ">= 0"),
     "ofc_alpha": (lambda v: v > 0, "> 0 (and below 1/q on a graph of coordination q)"),
     "dt": (lambda v: v > 0, "> 0"),
 }
@@ -250,12 +254,12 @@ def model(table, lists, options):
         if lists["ofc_alpha"] != [None]:
             raise ConfigError('sweep.ofc_alpha is the OFC automaton\'s: add model = "ofc"')
         return None
-    wrong = [key for key in ("sigma", "alpha", "dt") if lists[key] != [None]]
+    wrong = [key for key in ("sigma", "alpha", "nu", "eta", "dt") if lists[key] != [None]]
     wrong += ["options" if "rtol" not in options else "rtol"] if options else []
     if wrong:
         raise ConfigError(
             f"sweep.{', sweep.'.join(wrong)}: not parameters of the OFC automaton (model = "
-            '"ofc"), which has no friction and no integration; give k or ofc_alpha'
+            '"ofc"), which has no friction, no viscosity and no integration; give k or ofc_alpha'
         )
     if lists["k"] != [None] and lists["ofc_alpha"] != [None]:
         raise ConfigError("sweep: give the OFC automaton k or ofc_alpha, not both")

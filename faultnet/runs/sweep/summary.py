@@ -28,23 +28,35 @@ _FIT_COLUMNS = [
 ]  # fmt: skip
 #: the columns of the summary table; ``part`` is the point's catalog file name
 SUMMARY_COLUMNS = [
-    "point", "replica", "graph", "model", "n_blocks", "k", "sigma", "alpha", "dt", "events",
-    "transient",
+    "point", "replica", "graph", "model", "n_blocks", "k", "sigma", "alpha", "nu", "eta", "dt",
+    "events", "transient",
     *_FIT_COLUMNS,
     "wall_time_s", "events_per_s", "seed_entropy", "spawn_key", "status", "part",
 ]  # fmt: skip
 
 
+def _kelvin(name, md, point, model):
+    """A point's ``nu`` or ``eta``: its catalog's (which records them only where not 0), else
+    its own, else 0 (None for the automaton, which has neither)."""
+    if model == "ofc":
+        return None
+    value = md.get(name, point.get(name))
+    return 0.0 if value is None else value
+
+
 def _row(point, path, md, st, status):
+    model = md.get("model", point.get("model") or "carlson-langer")
     row = {
         "point": point["index"],
         "replica": point["replica"],
         "graph": point["graph"],
-        "model": md.get("model", point.get("model") or "carlson-langer"),
+        "model": model,
         "n_blocks": md.get("n_blocks"),
         "k": md.get("k", point["k"]),
         "sigma": md.get("sigma", point["sigma"]),
         "alpha": md.get("alpha", point["alpha"]),
+        "nu": _kelvin("nu", md, point, model),
+        "eta": _kelvin("eta", md, point, model),
         "dt": md.get("dt", point["dt"]),
         "events": st.get("events", 0),
         "transient": st.get("transient"),
@@ -84,7 +96,7 @@ def summary_table(rows):
 def summarize(out, *, transient=None, m_min=None, m_max=None) -> pd.DataFrame:
     """Summary table of a sweep folder (or a folder of catalogs): one row per point.
 
-    Columns: point, replica, graph, n_blocks, k, sigma, alpha, dt, events,
+    Columns: point, replica, graph, model, n_blocks, k, sigma, alpha, nu, eta, dt, events,
     transient, M_min, M_max, b_mle, b_mle_err, m_min, m_max, n_fit, b_lsq,
     b_lsq_err, wall_time_s, events_per_s, seed_entropy, spawn_key, status
     (``done``, ``missing``, ``partial a/b``, ``corrupt: ...``) and part (the
@@ -99,7 +111,12 @@ def summarize(out, *, transient=None, m_min=None, m_max=None) -> pd.DataFrame:
         return _summarize_catalogs(out, transient, m_min, m_max)
     conf = _read_config(manifest)
     defining = ("k", "sigma", "alpha", "dt", "events", "replicas", "seed")
-    cfg = SweepConfig(graphs=conf["graphs"], **{key: conf[key] for key in defining})
+    optional = ("nu", "eta", "model", "ofc_alpha")  # in sweeps that set them
+    cfg = SweepConfig(
+        graphs=conf["graphs"],
+        **{key: conf[key] for key in defining},
+        **{key: conf[key] for key in optional if key in conf},
+    )
     transient = conf.get("transient", 0) if transient is None else transient
     m_min = conf.get("m_min") if m_min is None else m_min
     m_max = conf.get("m_max") if m_max is None else m_max
@@ -146,6 +163,8 @@ def _catalog_point(md, index):
         "k": md.get("k"),
         "sigma": md.get("sigma"),
         "alpha": md.get("alpha"),
+        "nu": md.get("nu"),
+        "eta": md.get("eta"),
         "dt": md.get("dt"),
         "seed_entropy": md.get("seed_entropy"),
         "spawn_key": list(md.get("seed_spawn_key") or ()),

@@ -52,10 +52,30 @@ __all__ = [
 #: - ``fault`` (int64[N]): each block's fault, numbered from 0 (all 0 on a graph without
 #:   fault labels), so that an event counts the faults it ruptured;
 #: - ``frame`` (float64[N]): the stiffness of a block's frame springs (``k wall``, part of
-#:   ``diag``), which tie it to a frame at rest at x = 0; zeros without walls.
+#:   ``diag``), which tie it to a frame at rest at x = 0; zeros without walls;
+#: - ``nu`` (float): the plate's velocity during events (0.0: frozen, the plate moves between
+#:   events only);
+#: - ``eta`` (float64[nnz]): the viscous (Kelvin) coupling of each CSR entry, and ``eta_sum``
+#:   (float64[N]) each block's total; ``viscous`` (bool): whether any is nonzero (else the
+#:   force skips the viscous term).
 Graph = namedtuple(
     "Graph",
-    ["indptr", "indices", "kval", "diag", "oms", "cfr", "k_uniform", "nbr", "fault", "frame"],
+    [
+        "indptr",
+        "indices",
+        "kval",
+        "diag",
+        "oms",
+        "cfr",
+        "k_uniform",
+        "nbr",
+        "fault",
+        "frame",
+        "nu",
+        "eta",
+        "eta_sum",
+        "viscous",
+    ],
 )
 
 #: The model's state between events (:mod:`.carlson_langer.tree`).
@@ -70,11 +90,12 @@ State = namedtuple("State", ["z", "scal", "keys", "tree"])
 
 #: The event's work space and the counters of the current call.
 #:
-#: - ``W`` (float64[2 N + 1, N_WORK], :func:`work_array`): float work, block-major: row i for
+#: - ``W`` (float64[2 N + 2, N_WORK], :func:`work_array`): float work, block-major: row i for
 #:   block i (columns named in :mod:`.carlson_langer.work`), row N + q the DP5 stage
 #:   derivatives of the block at active position q (:func:`.carlson_langer.tableau.stage_rows`,
-#:   columns ``KV``, ``KA``), and row 2 N the ghost, never written, which padded neighbours
-#:   read (``Graph.nbr``);
+#:   columns ``KV``, ``KA``), row 2 N the ghost, never written, which padded neighbours
+#:   read (``Graph.nbr``), and row 2 N + 1 the plate's advance during the event
+#:   (:func:`.carlson_langer.work.plate_row`);
 #: - ``IW`` (int64[N_IWORK, N]): int work, rows named in :mod:`.carlson_langer.work`;
 #: - ``loc`` (float64[LOC_SIZE]): the crossings a step listed (:mod:`.carlson_langer.work`);
 #: - ``cnt`` (int64[CNT_SIZE]): counters (``layout.CNT_*``).
@@ -238,19 +259,24 @@ def padded_neighbours(indptr, indices):
     return nbr
 
 
-def graph_bundle(indptr, indices, kval, diag, oms, cfr, nbr=None, fault=None, frame=None):
+def graph_bundle(
+    indptr, indices, kval, diag, oms, cfr, nbr=None, fault=None, frame=None, nu=0.0, eta=None
+):
     """The :data:`Graph` of CSR arrays and per-block parameters (float64 ``kval``, ``diag``, ...).
 
     ``nbr``: the graph's :func:`padded_neighbours`, built here if not given (it depends on the
     topology only, so a simulation builds it once for every set of parameters).
     ``fault``: each block's fault number (None: every block on fault 0).
     ``frame``: the frame springs' stiffness per block, ``k wall`` (None: no frame springs).
+    ``nu``: the plate's velocity during events; ``eta``: the viscous coupling of each CSR
+    entry (None: none).
     ``k_uniform`` is the springs' constant where all are equal and positive and the neighbour
     table holds every neighbour, else 0.0.
     """
     indptr = np.asarray(indptr, dtype=np.int64)
     indices = np.asarray(indices, dtype=np.int64)
     kval = np.asarray(kval, dtype=np.float64)
+    eta = np.zeros(kval.shape) if eta is None else np.asarray(eta, dtype=np.float64)
     if nbr is None:
         nbr = padded_neighbours(indptr, indices)
     hubs = nbr.shape[1] < int(np.diff(indptr).max(initial=0))
@@ -268,12 +294,20 @@ def graph_bundle(indptr, indices, kval, diag, oms, cfr, nbr=None, fault=None, fr
         frame=(
             np.zeros(indptr.shape[0] - 1) if frame is None else np.asarray(frame, dtype=np.float64)
         ),
+        nu=float(nu),
+        eta=eta,
+        eta_sum=np.bincount(
+            np.repeat(np.arange(indptr.shape[0] - 1), np.diff(indptr)),
+            weights=eta,
+            minlength=indptr.shape[0] - 1,
+        ).astype(np.float64),
+        viscous=bool(np.any(eta > 0.0)),
     )
 
 
 def work_array(n, columns):
-    """The float work array ``W`` of :data:`Work` for n blocks: 2 n + 1 rows of zeros."""
-    return np.zeros((2 * n + 1, columns), dtype=np.float64)
+    """The float work array ``W`` of :data:`Work` for n blocks: 2 n + 2 rows of zeros."""
+    return np.zeros((2 * n + 2, columns), dtype=np.float64)
 
 
 def tree_size(n):

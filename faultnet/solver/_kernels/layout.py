@@ -30,7 +30,6 @@ __all__ = [
     "CNT_BLOCK_STEPS",
     "CNT_EVENTS",
     "CNT_INTERPOLATED_CROSSINGS",
-    "CNT_LANDED_JOINS",
     "CNT_PARTIAL_BLOCK_STEPS",
     "CNT_RELOCATIONS",
     "CNT_SIZE",
@@ -107,9 +106,8 @@ CNT_PARTIAL_BLOCK_STEPS = 6  #: block-steps of partial steps to crossings
 CNT_RELOCATIONS = 7  #: an earlier crossing found inside a partial step
 CNT_SOLO_EVENTS = 8  #: events taken from a cached solo slip
 CNT_STAMPS = 9  #: tag counter of the steps' scans (never reset)
-CNT_LANDED_JOINS = 10  #: joins landed on a step's interpolant
-CNT_INTERPOLATED_CROSSINGS = 11  #: stops and joins placed on a step's dense output
-CNT_SIZE = 12
+CNT_INTERPOLATED_CROSSINGS = 10  #: stops and joins placed on a step's dense output
+CNT_SIZE = 11
 
 OUT_T = 0  #: plate time of the last event's start
 OUT_DURATION = 1  #: its duration

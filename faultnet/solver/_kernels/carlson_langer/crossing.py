@@ -42,7 +42,6 @@ from faultnet.solver._kernels.jit import inline_kernel, kernel
 
 __all__ = [
     "JOIN",
-    "LANDED",
     "STATUS_EVENT_TOO_LONG",
     "STATUS_NONFINITE",
     "STATUS_OK",
@@ -62,9 +61,6 @@ STATUS_EVENT_TOO_LONG = -3
 
 STICK = 1
 JOIN = 2
-#: a join reached by landing on a step's interpolant (:mod:`.landing`), which has checked that
-#: no other stuck neighbour is at the threshold there
-LANDED = 3
 
 
 @kernel
@@ -87,13 +83,15 @@ def stick_theta(h, q, i, W, K):
 def join_theta(h, j, f0, f1, graph, work):
     """Where inside the step the force on stuck block j reaches 1 (``f0 < 1 <= f1``).
 
-    The force is linear in the positions, so its dense output is that of its slipping
-    neighbours' positions, summed through the springs.
+    The force is linear in the positions, the plate's advance and the velocities, so its dense
+    output is that of its slipping neighbours' positions summed through the springs, plus
+    ``nu t``, plus their velocities summed through the viscous coupling (whose stage
+    derivatives are the stage accelerations).
     """
     W, IW = work.W, work.IW
     K = stage_rows(work)
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
-    g1 = g3 = g4 = g5 = g6 = g7 = 0.0
+    g1 = g3 = g4 = g5 = g6 = g7 = graph.nu
     for r in range(indptr[j], indptr[j + 1]):
         b = indices[r]
         if IW[FLAG, b] == ACTIVE:
@@ -105,6 +103,14 @@ def join_theta(h, j, f0, f1, graph, work):
             g5 += c * K[q, KV + 4]
             g6 += c * K[q, KV + 5]
             g7 += c * W[b, VN]
+            if graph.viscous:
+                e = graph.eta[r]
+                g1 += e * K[q, KA]
+                g3 += e * K[q, KA + 2]
+                g4 += e * K[q, KA + 3]
+                g5 += e * K[q, KA + 4]
+                g6 += e * K[q, KA + 5]
+                g7 += e * W[b, AN]
     c0, c1, c2, c3, c4 = dense_coeffs(
         f0 - 1.0, f1 - 1.0, h * g1, h * g3, h * g4, h * g5, h * g6, h * g7
     )

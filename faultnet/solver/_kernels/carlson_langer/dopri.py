@@ -36,11 +36,29 @@ from faultnet.solver._kernels.carlson_langer.tableau import (
     _B4,
     _B5,
     _B6,
+    _C2,
+    _C3,
+    _C4,
+    _C5,
     KA,
     KV,
     stage_rows,
 )
-from faultnet.solver._kernels.carlson_langer.work import ACT, AN, DN, P2, VN, A, D, P, V, new_id
+from faultnet.solver._kernels.carlson_langer.work import (
+    ACT,
+    AN,
+    DN,
+    P2,
+    Q2,
+    VN,
+    A,
+    D,
+    P,
+    Q,
+    V,
+    new_id,
+    plate_row,
+)
 from faultnet.solver._kernels.jit import kernel
 
 __all__ = ["dopri_step"]
@@ -66,12 +84,22 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     ``work``: :class:`~faultnet.solver._kernels.bundles.Graph` and ``Work``, unpacked once here; the
     stage passes inline :func:`~.physics.accel_hot` and the scan.
 
+    Where the plate moves during events (``graph.nu``), each pass first sets the plate's
+    advance at its stage's time in the plate row; with viscous coupling (``graph.viscous``)
+    each pass also writes its blocks' next stage velocities in the column paired with the
+    positions it writes (Q with P, Q2 with P2), which the viscous force of their neighbours
+    reads.  After the step P and P2 hold the step's end, with VN in Q and Q2.
+
     The passes index with unsigned integers (active positions q, blocks i), for which Numba
     omits its negative-index wrap-around: 2-5% more events/s on W1, W4 and W5.  The scan and
     :func:`~.physics.force` take them back as int64 (one signature each).
     """
     W, IW = work.W, work.IW
     K = stage_rows(work)
+    visc = graph.viscous
+    pr = plate_row(W)
+    nu_h = graph.nu * h
+    base = W[pr, D]
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v = W[i, V]
@@ -80,6 +108,10 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KA] = a
         W[i, P] = W[i, D] + h * _A21 * v
         K[q, KV + 1] = v + h * _A21 * a
+        if visc:
+            W[i, Q] = K[q, KV + 1]
+    if nu_h > 0.0:
+        W[pr, P] = base + _C2 * nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v2 = K[q, KV + 1]
@@ -87,6 +119,10 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KA + 1] = a2
         W[i, P2] = W[i, D] + h * (_A31 * K[q, KV] + _A32 * v2)
         K[q, KV + 2] = W[i, V] + h * (_A31 * K[q, KA] + _A32 * a2)
+        if visc:
+            W[i, Q2] = K[q, KV + 2]
+    if nu_h > 0.0:
+        W[pr, P2] = base + _C3 * nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v3 = K[q, KV + 2]
@@ -94,6 +130,10 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KA + 2] = a3
         W[i, P] = W[i, D] + h * (_A41 * K[q, KV] + _A42 * K[q, KV + 1] + _A43 * v3)
         K[q, KV + 3] = W[i, V] + h * (_A41 * K[q, KA] + _A42 * K[q, KA + 1] + _A43 * a3)
+        if visc:
+            W[i, Q] = K[q, KV + 3]
+    if nu_h > 0.0:
+        W[pr, P] = base + _C4 * nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v4 = K[q, KV + 3]
@@ -103,6 +143,10 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         dv = _A51 * K[q, KA] + _A52 * K[q, KA + 1] + _A53 * K[q, KA + 2] + _A54 * a4
         W[i, P2] = W[i, D] + h * dp
         K[q, KV + 4] = W[i, V] + h * dv
+        if visc:
+            W[i, Q2] = K[q, KV + 4]
+    if nu_h > 0.0:
+        W[pr, P2] = base + _C5 * nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v5 = K[q, KV + 4]
@@ -124,6 +168,10 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         )
         W[i, P] = W[i, D] + h * dp
         K[q, KV + 5] = W[i, V] + h * dv
+        if visc:
+            W[i, Q] = K[q, KV + 5]
+    if nu_h > 0.0:
+        W[pr, P] = base + nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v6 = K[q, KV + 5]
@@ -139,6 +187,10 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         W[i, DN] = dn
         W[i, VN] = W[i, V] + h * dv
         W[i, P2] = dn
+        if visc:
+            W[i, Q2] = W[i, VN]
+    if nu_h > 0.0:
+        W[pr, P2] = W[pr, DN] = base + nu_h
     best = 2.0
     who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
     kind = np.int64(0)
@@ -149,6 +201,8 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         W[i, P] = W[i, DN]
+        if visc:
+            W[i, Q] = W[i, VN]
         W[i, AN] = accel_hot(i, P2, W[i, VN], W, graph)
         if scan:
             # P2 holds every active block's end position (P is being updated)

@@ -50,6 +50,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     UNTOUCHED,
     D,
     P,
+    plate_row,
 )
 from faultnet.solver._kernels.jit import entry, inline_kernel, kernel
 from faultnet.solver._kernels.layout import (
@@ -193,6 +194,8 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
         solo[c, SOLO_DURATION] = t
         solo[c, SOLO_STEPS] = nsteps
         computing = False
+    if graph.nu > 0.0:
+        _plate_moved(w, state, work)
     total, nblk, nflt = _finish_event(ntouch, ev, state, graph, work, records)
     out[OUT_DURATION] = t
     out[OUT_SLIP] = total
@@ -201,6 +204,19 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
     out[OUT_STEPS] = nsteps
     work.cnt[CNT_STEPS] += nsteps
     return STATUS_OK
+
+
+@kernel
+def _plate_moved(w, state, work):
+    """The plate's position at the end of an event during which it moved (:mod:`.plate`).
+
+    The next loading starts there; the plate row of ``W`` is cleared for the next event.
+    """
+    W = work.W
+    pr = plate_row(W)
+    state.scal[SCAL_W] = w + W[pr, D]
+    for c in range(W.shape[1]):
+        W[pr, c] = 0.0
 
 
 @inline_kernel

@@ -1,6 +1,6 @@
 """Interpolated crossings: stops and joins placed on a step's dense output, no step redone.
 
-The exact treatment (:mod:`.stepping`, :mod:`.landing`)
+The exact treatment (:mod:`.stepping`)
 reaches every crossing with the whole scheme, so an event keeps the fifth order of its DP5
 steps; on 2-D lattices that costs more than the steps themselves.  With this treatment
 (:func:`.slip.integrate_interpolated`) the event loop takes every full step

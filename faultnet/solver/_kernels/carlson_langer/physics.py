@@ -3,14 +3,18 @@
 A slipping block i, displaced by ``x_i`` since the start of the event, obeys
 
     x_i'' = F_i - phi_i(x_i'),
-    F_i = F0_i + sum_j k_ij x_j - diag_i x_i,       diag_i = 1 + sum_j k_ij,
+    F_i = F0_i + sum_j k_ij x_j - diag_i x_i + nu t + sum_j eta_ij (x_j' - x_i'),
+    diag_i = 1 + sum_j k_ij,
     phi_i(v) = oms_i / (1 + cfr_i v),               oms = 1 - sigma, cfr = 2 alpha / (1 - sigma),
 
-``F0_i`` being its force at the start of the event (the plate's pull and the springs') and
-``phi`` the velocity-weakening dynamic friction.  A stuck block stays stuck while ``F_i < 1``
-(the static threshold) and a slipping block sticks when its velocity reaches 0 with its
-acceleration <= 0.  Between events the plate moves and no block does: a stuck block's force is
-``1 + w - key_i`` at plate position ``w`` (:func:`block_key`).  ``diag_i`` includes the
+``F0_i`` being its force at the start of the event (the plate's pull and the springs'),
+``nu t`` the plate's advance during the event (velocity ``graph.nu``; 0 where the plate is
+frozen during events), ``eta_ij`` the viscous (Kelvin) coupling and ``phi`` the
+velocity-weakening dynamic friction.  The same force acts on a stuck block (``x_i' = 0``).
+A stuck block stays stuck while ``F_i < 1`` (the static threshold) and a slipping block
+sticks when its velocity reaches 0 with its acceleration <= 0.  Between events the plate moves
+and no block does: a stuck block's force is ``1 + w - key_i`` at plate position ``w``
+(:func:`block_key`).  ``diag_i`` includes the
 block's frame springs (``graph.frame``, ``k wall_i``), which tie it to a frame at rest at the
 absolute position 0: only the keys see where the frame is (through the frame offset ``off``).
 
@@ -18,19 +22,26 @@ Every kernel that needs a force, an acceleration or a rate of the friction calls
 here: the DP5 stages (:func:`accel_hot`), the crossings (:func:`force`, :func:`accel`, the
 rates :func:`friction_slope` and :func:`jerk_snap`), the lone paths of the interpolated
 crossings (:func:`lone_path`), the keys and the solo cache (:func:`block_key`, :func:`load`).
-A change of the model (a plate moving during events, viscous coupling, another friction law)
-is a change of this module and of its tests.
+The plate's motion during events and the viscous coupling live in :func:`force` (and its
+rate :func:`force_rate`); the interpolated crossings' lone paths do not have them, so a model
+with either runs the exact crossings.  Another
+friction law is a change of :func:`friction`, :func:`friction_slope` and :func:`jerk_snap`.
+
+Where the time and the velocities enter: a position column ``pos`` of ``W`` comes with the
+plate's advance at its instant (``W[plate_row(W), pos]``) and with the velocities at that
+instant (column ``pos + VEL``), see :mod:`.work`.
 
 Arguments: ``i`` a block, ``pos`` and ``vel`` columns of the work array ``W`` (positions,
 velocities), ``v`` a velocity, ``graph`` the ``Graph`` bundle (springs
-``indptr``, ``indices``, ``kval``, ``nbr``, ``k_uniform`` and the per-block ``diag``, ``oms``,
-``cfr``, ``frame``), ``z`` the displacements between events (relative to the frame offset
-``off``), ``keys`` the failure keys, ``w`` the plate position.
+``indptr``, ``indices``, ``kval``, ``nbr``, ``k_uniform``, the per-block ``diag``, ``oms``,
+``cfr``, ``frame``, the plate velocity ``nu`` and the viscous ``eta``, ``eta_sum``,
+``viscous``), ``IW`` the int work array, ``z`` the displacements between events (relative to
+the frame offset ``off``), ``keys`` the failure keys, ``w`` the plate position.
 """
 
 import numpy as np
 
-from faultnet.solver._kernels.carlson_langer.work import F0
+from faultnet.solver._kernels.carlson_langer.work import ACTIVE, AN, F0, FLAG, VEL, VN, D, plate_row
 from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
 
 __all__ = [
@@ -40,12 +51,15 @@ __all__ = [
     "block_key",
     "force",
     "force_hot",
+    "force_rate",
     "friction",
     "friction_slope",
     "jerk_snap",
     "load",
     "lone_path",
     "start_accel",
+    "stuck_key",
+    "viscous",
 ]
 
 #: the friction's denominator ``1 + cfr v`` is floored here: RK stages may probe small
@@ -82,17 +96,35 @@ def load(j, w, keys):
 
 
 @kernel
+def viscous(i, pos, W, graph):
+    """Viscous force ``sum_j eta_ij (v_j - v_i)`` on block ``i`` at the instant of column ``pos``.
+
+    The velocities are those of column ``pos + VEL`` (zero for blocks that do not slip).
+    """
+    indptr, indices, eta = graph.indptr, graph.indices, graph.eta
+    vel = pos + VEL
+    s = 0.0
+    for p in range(indptr[i], indptr[i + 1]):
+        s += eta[p] * W[indices[p], vel]
+    return s - graph.eta_sum[i] * W[i, vel]
+
+
+@kernel
 def force(i, pos, W, graph):
     """Force on touched block ``i`` for the displacements in column ``pos`` of ``W``.
 
     Columns are passed by index, never as views: creating a view costs an atomic
-    reference-count update, which dominated the cost of a step.
+    reference-count update, which dominated the cost of a step.  The plate's advance is
+    added last (0.0 where the plate is frozen during events: bit for bit the force without).
     """
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += kval[p] * W[indices[p], pos]
-    return W[i, F0] + s - graph.diag[i] * W[i, pos]
+    f = W[i, F0] + s - graph.diag[i] * W[i, pos] + W[plate_row(W), pos]
+    if graph.viscous:
+        f += viscous(i, pos, W, graph)
+    return f
 
 
 @inline_kernel
@@ -112,8 +144,38 @@ def force_hot(i, pos, W, graph):
         s = 0.0
         for c in range(nbr.shape[1]):
             s += W[nbr[i, c], pos]
-        return W[i, F0] + k * s - graph.diag[i] * W[i, pos]
+        f = W[i, F0] + k * s - graph.diag[i] * W[i, pos] + W[plate_row(W), pos]
+        if graph.viscous:
+            f += viscous(np.int64(i), pos, W, graph)
+        return f
     return force(np.int64(i), pos, W, graph)  # int64: dopri_step's blocks are unsigned
+
+
+@kernel
+def force_rate(i, W, IW, graph):
+    """Rate of change of the force on stuck block ``i`` at the end of a step (DN, VN, AN).
+
+    ``sum_j k_ij v_j + nu + sum_j eta_ij a_j`` over its slipping neighbours: the springs'
+    rate, the plate's and the viscous pull's.
+    """
+    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
+    r = graph.nu
+    for p in range(indptr[i], indptr[i + 1]):
+        b = indices[p]
+        r += kval[p] * W[b, VN]
+        if graph.viscous and IW[FLAG, b] == ACTIVE:
+            r += graph.eta[p] * W[b, AN]
+    return r
+
+
+@kernel
+def stuck_key(i, w, W, graph):
+    """The plate position at which stuck block ``i`` reaches 1 if no neighbour moves on.
+
+    From its force now (column D at plate position ``w`` plus the advance ``W[plate, D]``):
+    the event's counterpart of :func:`block_key`.
+    """
+    return w + W[plate_row(W), D] + (1.0 - force(i, D, W, graph))
 
 
 @kernel

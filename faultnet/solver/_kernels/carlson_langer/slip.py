@@ -7,8 +7,8 @@ receive one of them as an argument, so a run compiles only the treatment it uses
 inlines the integration at its one call site in the event loop (a block class's first solo
 slip runs through the same call as the events).
 
-- :func:`integrate_exact`: every crossing is reached by the DP5 scheme itself, by a landing on
-  the step's interpolant (a join) or a partial step, and polished to round-off
+- :func:`integrate_exact`: every crossing is reached by the DP5 scheme itself, by a partial
+  step, and polished to round-off
   (:func:`.stepping.to_crossing`): the events keep the fifth order of the steps;
 - :func:`integrate_interpolated`: every full DP5 step is kept and the crossings inside it are
   placed on its dense output (:func:`.interp.interpolated_crossings`), cheaper on 2-D graphs.
@@ -24,6 +24,11 @@ step context and counters) and ``records`` (only the trajectory recording, ``tra
 from faultnet.solver._kernels.carlson_langer.crossing import STATUS_EVENT_TOO_LONG, STATUS_OK
 from faultnet.solver._kernels.carlson_langer.dopri import dopri_step
 from faultnet.solver._kernels.carlson_langer.interp import interpolated_crossings
+from faultnet.solver._kernels.carlson_langer.plate import (
+    next_plate_join,
+    plate_join,
+    refresh_stuck,
+)
 from faultnet.solver._kernels.carlson_langer.stepping import (
     apply_crossing,
     commit,
@@ -82,7 +87,11 @@ def _max_steps(ctrl):
 
 @inline_kernel
 def integrate_exact(ev, nact, ntouch, w, state, ctrl, graph, work, records):
-    """Integrate the active blocks until every block has stopped, each crossing reached exactly."""
+    """Integrate the active blocks until every block has stopped, each crossing reached exactly.
+
+    Where the plate moves during events, a step also ends where the plate brings a stuck
+    block to the threshold (:mod:`.plate`).
+    """
     W, IW, cnt = work.W, work.IW, work.cnt
     keys = state.keys
     dt, vmax = ctrl[CTRL_DT], ctrl[CTRL_MAX_VELOCITY]
@@ -91,22 +100,33 @@ def integrate_exact(ev, nact, ntouch, w, state, ctrl, graph, work, records):
     t = 0.0
     nsteps = 0
     one = nsteps - nsteps + 1  # int64, not a literal: one compiled signature per kernel
+    moving = graph.nu > 0.0
     while nact > 0:
-        th, who, kind, status = dopri_step(dt, nact, one, vmax, graph, work)
-        if status != STATUS_OK:
-            return status, t, nsteps, ntouch
-        nsteps += 1
-        cnt[CNT_BLOCK_STEPS] += nact
-        if who < 0:
-            commit(nact, W, IW)
-            t += dt
-        else:
-            h, who, kind, n, status = to_crossing(th, who, kind, dt, nact, vmax, graph, work)
-            nsteps += n
+        h = dt
+        plate_j = one - 2  # the block the plate brings to 1 at the step's end (-1: none)
+        if moving:
+            h, plate_j = next_plate_join(dt, w, state, graph, work)
+        if h > 0.0:
+            th, who, kind, status = dopri_step(h, nact, one, vmax, graph, work)
             if status != STATUS_OK:
                 return status, t, nsteps, ntouch
-            t += h
-            nact, ntouch = apply_crossing(who, kind, nact, ntouch, w, keys, graph, work)
+            nsteps += 1
+            cnt[CNT_BLOCK_STEPS] += nact
+            if who < 0:
+                commit(nact, W, IW)
+                t += h
+            else:
+                h, who, kind, n, status = to_crossing(th, who, kind, h, nact, vmax, graph, work)
+                nsteps += n
+                if status != STATUS_OK:
+                    return status, t, nsteps, ntouch
+                t += h
+                nact, ntouch, hi = apply_crossing(who, kind, nact, ntouch, w, keys, graph, work)
+                if moving:
+                    refresh_stuck(nact, hi, w, state, graph, work)
+                plate_j = one - 2  # a crossing came first: the plate's join is looked at again
+        if plate_j >= 0:
+            nact, ntouch = plate_join(plate_j, nact, ntouch, w, state, graph, work)
         if tracing:
             record_trace(ev, t, state, work, records)
         if t > ctrl[CTRL_MAX_DURATION] or nsteps > max_steps:

@@ -34,7 +34,6 @@ from faultnet.solver._kernels.jit import inline_kernel, kernel
 from faultnet.solver._kernels.layout import (
     CNT_BLOCK_STEPS,
     CNT_INTERPOLATED_CROSSINGS,
-    CNT_LANDED_JOINS,
     CNT_PARTIAL_BLOCK_STEPS,
     CNT_RELOCATIONS,
     CNT_SLIP_ROWS,
@@ -79,7 +78,6 @@ def solo_start(i, graph, work):
         cnt[CNT_BLOCK_STEPS],
         cnt[CNT_PARTIAL_BLOCK_STEPS],
         cnt[CNT_RELOCATIONS],
-        cnt[CNT_LANDED_JOINS],
         cnt[CNT_INTERPOLATED_CROSSINGS],
     )
 
@@ -92,7 +90,6 @@ def solo_end(i, saved, work):
         cnt[CNT_BLOCK_STEPS],
         cnt[CNT_PARTIAL_BLOCK_STEPS],
         cnt[CNT_RELOCATIONS],
-        cnt[CNT_LANDED_JOINS],
         cnt[CNT_INTERPOLATED_CROSSINGS],
     ) = saved
     s = W[i, D]

@@ -10,10 +10,9 @@ Arguments: ``j``, ``i`` blocks, ``w`` the plate position, ``keys`` the failure k
 :class:`~faultnet.solver._kernels.bundles.Work`.
 """
 
-from faultnet.solver._kernels.carlson_langer.crossing import JOIN, LANDED, STATUS_OK, STICK
+from faultnet.solver._kernels.carlson_langer.crossing import STATUS_OK, STICK
 from faultnet.solver._kernels.carlson_langer.dopri import dopri_step
-from faultnet.solver._kernels.carlson_langer.landing import land
-from faultnet.solver._kernels.carlson_langer.physics import accel, force, load
+from faultnet.solver._kernels.carlson_langer.physics import accel, force, force_rate, load
 from faultnet.solver._kernels.carlson_langer.work import (
     ACT,
     ACTIVE,
@@ -24,6 +23,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     FLAG,
     FRONTIER,
     P2,
+    Q2,
     STUCK,
     TOUCH,
     UNTOUCHED,
@@ -31,12 +31,13 @@ from faultnet.solver._kernels.carlson_langer.work import (
     A,
     D,
     P,
+    Q,
     V,
+    plate_row,
 )
 from faultnet.solver._kernels.jit import inline_kernel, kernel
 from faultnet.solver._kernels.layout import (
     CNT_BLOCK_STEPS,
-    CNT_LANDED_JOINS,
     CNT_PARTIAL_BLOCK_STEPS,
     CNT_RELOCATIONS,
 )
@@ -82,14 +83,20 @@ def activate(j, nact, ntouch, w, keys, graph, work):
 
 @kernel
 def deactivate(i, nact, W, IW):
-    """Block i sticks (v = 0); swap-remove it from the active list."""
+    """Block i sticks (v = 0); swap it to the end of the active list, which loses it.
+
+    The blocks that stuck since the list had ``n`` entries are then ``IW[ACT, nact:n]``.
+    """
     q = IW[APOS, i]
     last = IW[ACT, nact - 1]
     IW[ACT, q] = last
     IW[APOS, last] = q
+    IW[ACT, nact - 1] = i
     IW[FLAG, i] = STUCK
     W[i, V] = 0.0
     W[i, VN] = 0.0
+    W[i, Q] = 0.0
+    W[i, Q2] = 0.0
     return nact - 1
 
 
@@ -124,36 +131,38 @@ def stick_scan(nact, W, IW):
 
 @kernel
 def commit(nact, W, IW):
-    """The step's end (DN, VN, AN) becomes the committed state (D, V, A)."""
+    """The step's end (DN, VN, AN) becomes the committed state (D, V, A), plate included."""
     for q in range(nact):
         i = IW[ACT, q]
         W[i, D] = W[i, DN]
         W[i, V] = W[i, VN]
         W[i, A] = W[i, AN]
+    pr = plate_row(W)
+    W[pr, D] = W[pr, DN]
 
 
 @kernel
 def restore_positions(nact, W, IW):
-    """Discard a step: the stage positions back to the committed ones."""
+    """Discard a step: the stage positions (velocities, plate) back to the committed ones."""
     for q in range(nact):
         i = IW[ACT, q]
         W[i, P] = W[i, D]
         W[i, P2] = W[i, D]
+        W[i, Q] = W[i, V]
+        W[i, Q2] = W[i, V]
+    pr = plate_row(W)
+    W[pr, P] = W[pr, P2] = W[pr, D]
 
 
 @kernel
-def _residual(who, kind, W, graph):
+def _residual(who, kind, W, IW, graph):
     """Crossing function of block ``who`` and its time derivative at the end of the last step.
 
     ``kind``: ``STICK`` (the velocity) or a join (the force minus 1).
     """
     if kind == STICK:
         return W[who, VN], W[who, AN]
-    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
-    dg = 0.0
-    for r in range(indptr[who], indptr[who + 1]):
-        dg += kval[r] * W[indices[r], VN]
-    return force(who, P, W, graph) - 1.0, dg
+    return force(who, P, W, graph) - 1.0, force_rate(who, W, IW, graph)
 
 
 @kernel
@@ -172,6 +181,13 @@ def _taylor_shift(dh, nact, graph, work):
         W[i, P] = x
         W[i, P2] = x
         W[i, VN] += dh * W[i, AN]
+        W[i, Q] = W[i, VN]
+        W[i, Q2] = W[i, VN]
+    if graph.nu > 0.0:
+        pr = plate_row(W)
+        W[pr, DN] += graph.nu * dh
+        W[pr, P] = W[pr, DN]
+        W[pr, P2] = W[pr, DN]
     for q in range(nact):
         i = IW[ACT, q]
         W[i, AN] = accel(i, P, VN, W, graph)
@@ -193,7 +209,7 @@ def _polish(h, hmax, who, kind, nact, graph, work):
     W = work.W
     n = 0
     for _ in range(6):
-        g, dg = _residual(who, kind, W, graph)
+        g, dg = _residual(who, kind, W, work.IW, graph)
         if dg == 0.0:
             break
         dh = -g / dg
@@ -214,12 +230,10 @@ def to_crossing(th, who, kind, h, nact, vmax, graph, work):
     """Reach the crossing of block ``who`` (``kind``) found at fraction ``th`` of a step of length
     ``h``; commit there.  ``vmax``: the fastest velocity allowed in a partial step.
 
-    A join is landed on the step's interpolant (:func:`.landing.land`).  Otherwise, or when
-    that landing is not clean: a partial step to the crossing; if another crossing is found
-    earlier inside it, go to that one instead; then Newton-polish the crossing to round-off
-    and commit.  ``th == 0`` (a crossing at the start) discards the step.  Returns (time
-    advanced, block, kind, steps taken, status); kind ``LANDED`` for a landed join.  Counts
-    its work in ``work.cnt``.
+    A partial step to the crossing; if another crossing is found earlier inside it, go to that
+    one instead; then Newton-polish the crossing to round-off and commit.  ``th == 0`` (a
+    crossing at the start) discards the step.  Returns (time advanced, block, kind, steps
+    taken, status).  Counts its work in ``work.cnt``.
     """
     W, IW, cnt = work.W, work.IW, work.cnt
     n = 0
@@ -227,11 +241,6 @@ def to_crossing(th, who, kind, h, nact, vmax, graph, work):
     if th <= 0.0:
         restore_positions(nact, W, IW)
         return 0.0, who, kind, n, STATUS_OK
-    if kind == JOIN:
-        hl = land(th, who, h, nact, graph, work)
-        if hl >= 0.0:
-            cnt[CNT_LANDED_JOINS] += 1
-            return hl, who, kind - kind + LANDED, n, STATUS_OK
     hmax = h
     for _ in range(64):
         h = th * h
@@ -257,17 +266,15 @@ def to_crossing(th, who, kind, h, nact, vmax, graph, work):
 def apply_crossing(who, kind, nact, ntouch, w, keys, graph, work):
     """After committing at a crossing: joins (``who`` and any other block at threshold), then stops.
 
-    After a landed join (kind ``LANDED``) no other block is at the threshold
-    (:func:`.landing.land` checked every stuck neighbour there), so the scan for joins is
-    skipped.  Returns (nact, ntouch).
+    ``kind``: the crossing's kind, ``STICK`` or ``JOIN``.  Returns (nact, ntouch, hi): the blocks that stuck here are ``IW[ACT, nact:hi]``.
     """
     W, IW = work.W, work.IW
     if kind != STICK and IW[FLAG, who] != ACTIVE:
         nact, ntouch = activate(who, nact, ntouch, w, keys, graph, work)
-    if kind != LANDED:
-        # joins first: the neighbours of a block that sticks now are scanned too
-        nact, ntouch = join_scan(nact, ntouch, w, keys, graph, work)
+    # joins first: the neighbours of a block that sticks now are scanned too
+    nact, ntouch = join_scan(nact, ntouch, w, keys, graph, work)
+    hi = nact
     if kind == STICK and IW[FLAG, who] == ACTIVE:
         nact = deactivate(who, nact, W, IW)
     nact = stick_scan(nact, W, IW)
-    return nact, ntouch
+    return nact, ntouch, hi

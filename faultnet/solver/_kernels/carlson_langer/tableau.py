@@ -12,8 +12,8 @@ from faultnet.solver._kernels.jit import inline_kernel, kernel
 __all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense", "stage_rows"]
 
 # The stage derivatives of the block at active position q are row N + q of the work array
-# ``work.W`` (float64[2 N + 1, N_WORK]), below the N blocks' own rows: a block's row then fits in
-# 96 bytes, which counts on graphs that do not fit in the cache, and the kernels still take one
+# ``work.W`` (float64[2 N + 2, N_WORK]), below the N blocks' own rows: a block's row then fits in
+# 112 bytes, which counts on graphs that do not fit in the cache, and the kernels still take one
 # array (a second array in the ``Work`` bundle cost the ring W1 3-5%: every crossing kernel
 # takes the bundle).  :func:`stage_rows` is the view of those rows.
 KV = np.int64(0)  # 6 columns of stage velocities (int64, not a literal: see work.D)
@@ -26,6 +26,8 @@ _A31, _A32 = 3 / 40, 9 / 40
 _A41, _A42, _A43 = 44 / 45, -56 / 15, 32 / 9
 _A51, _A52, _A53, _A54 = 19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729
 _A61, _A62, _A63, _A64, _A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656
+# the stages' times, as fractions of the step (c6 = c7 = 1)
+_C2, _C3, _C4, _C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
 # weights of the 5th-order solution (b2 = 0)
 _B1, _B3, _B4, _B5, _B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
 # Dense output (Shampine 1986, as in Hairer's DOPRI5 CONTD5): 4th-order continuous

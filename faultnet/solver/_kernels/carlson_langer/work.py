@@ -2,7 +2,7 @@
 
 Only *active* (slipping) blocks are integrated.  Positions are displacements ``delta`` since
 the start of the event, so round-off does not grow with the plate position.  Float work lives
-in the columns of ``W`` (shape (2 N + 1, N_WORK), block-major so one block's values share
+in the columns of ``W`` (shape (2 N + 2, N_WORK), block-major so one block's values share
 cache lines), int work in the rows of ``IW`` (shape (N_IWORK, N); the active list
 ``IW[ACT, :nact]`` is contiguous); the column and row names are the constants below.  All
 kernels are compiled without the Numba runtime (``_nrt=False``): they never allocate, and
@@ -11,7 +11,10 @@ array arguments then cost no atomic reference counting at call boundaries.
 Invariants kept by every kernel:
 - ``W[j, P] == W[j, P2] == W[j, D]`` for every block that is not active
   (neighbours read P and P2, the two stage-position buffers);
-- ``W[j, V] == W[j, VN] == 0`` for every block that is not active;
+- ``W[j, V] == W[j, VN] == W[j, Q] == W[j, Q2] == 0`` for every block that is not active;
+- the *plate row* ``W[2 N + 1]`` (:func:`plate_row`) holds, in each position column, the
+  plate's advance ``nu t`` since the event's start at that column's instant; all zeros
+  where the plate is frozen during events (``nu = 0``);
 - every neighbour of an active block is *touched* (``IW[FLAG, j] != UNTOUCHED``)
   and has its starting force in ``W[j, F0]``;
 - the ghost row ``W[2 N]``, which pads the neighbour table ``graph.nbr``, is all zeros.
@@ -50,6 +53,8 @@ __all__ = [
     "N_WORK",
     "P",
     "P2",
+    "Q",
+    "Q2",
     "SA",
     "STOPPING",
     "STUCK",
@@ -58,19 +63,25 @@ __all__ = [
     "TOUCH",
     "UNTOUCHED",
     "V",
+    "VEL",
     "VN",
     "VS",
     "new_id",
+    "plate_row",
 ]
 
 # float work columns of W: the committed state (D, V, A), the step's end (DN, VN, AN), the
-# stage positions (P, P2), the force at the start of the event (F0); the interpolated
-# crossings keep a crossing's fraction of the step in VS, a join's path end in SV and SA, a
-# stop's position in SV and its deceleration in SA (:mod:`.interp`)
+# stage positions (P, P2) and velocities (Q, Q2), the force at the start of the event (F0);
+# the interpolated crossings keep a crossing's fraction of the step in VS, a join's path end
+# in SV and SA, a stop's position in SV and its deceleration in SA (:mod:`.interp`).
+# Each position column's velocities sit ``VEL`` columns to its right (D with V, P with Q, P2
+# with Q2, DN with VN): the viscous force reads them there (:func:`.physics.force`).
 # (NumPy integers, not Python ints: Numba types them int64, not as literals, so a kernel
 # that takes a column compiles one signature for all of them)
-D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = (np.int64(c) for c in range(12))
-N_WORK = 12
+D, P, P2, DN, V, Q, Q2, VN, A, AN, SV, SA, VS, F0 = (np.int64(c) for c in range(14))
+N_WORK = 14
+#: the velocities of position column ``c`` are column ``c + VEL``
+VEL = np.int64(4)
 # int work rows: the block flags, the active list and each block's position in it, the
 # touched list, the tags of the stuck blocks a step's scan has evaluated (fresh ids from
 # :func:`new_id`), the crossings a step's scan listed; and by fault number, the event (plus 1)
@@ -104,3 +115,9 @@ def new_id(cnt):
     """
     cnt[CNT_STAMPS] += 1
     return cnt[CNT_STAMPS]
+
+
+@kernel
+def plate_row(W):
+    """Index of the plate row of ``W`` (its last): the plate's advance per position column."""
+    return W.shape[0] - 1
