@@ -266,7 +266,8 @@ def to_crossing(th, who, kind, h, nact, vmax, graph, work):
 def apply_crossing(who, kind, nact, ntouch, w, keys, graph, work):
     """After committing at a crossing: joins (``who`` and any other block at threshold), then stops.
 
-    ``kind``: the crossing's kind, ``STICK`` or ``JOIN``.  Returns (nact, ntouch, hi): the blocks that stuck here are ``IW[ACT, nact:hi]``.
+    ``kind``: the crossing's kind, ``STICK`` or ``JOIN``.  Returns (nact, ntouch, hi): the
+    blocks that stuck here are ``IW[ACT, nact:hi]``.
     """
     W, IW = work.W, work.IW
     if kind != STICK and IW[FLAG, who] != ACTIVE:
