@@ -95,6 +95,14 @@ dense output at every step end and at ``check_points`` points inside every step:
   the end of the segment, :class:`MissedJoinError` is raised (with the repair off, this is how
   a missed join shows; with it on, it guards the repair).
 
+Missed stops, the same way round: a slipping block's velocity can dip below 0 and be back above
+it by the end of a step (grazing stops, and stops followed by a quick re-start as a neighbour
+pushes), and solve_ivp then reports nothing.  With the repair on, the velocities of the blocks
+slipping in the segment are sampled at the same points; the earliest sample below
+``-1e-12`` is bracketed and located with brentq, the segment is cut there (unless a missed
+join comes first) and the block stops there (the consistency sweep sticks it, or lets it slip
+on if its force still exceeds its friction at rest).
+
 With ``record_phases=True`` each event also carries its segments, and :func:`max_stuck_force`
 reports the largest stuck-block force over them.
 
@@ -124,6 +132,7 @@ __all__ = [
 
 _EPS = np.finfo(float).eps
 _JOIN_SLACK = 1e-12  # a stuck block's force above 1 + this at a sample point: a missed join
+_STOP_SLACK = 1e-12  # a slipping block's velocity below -this at a sample point: a missed stop
 
 
 class MissedJoinError(AssertionError):
@@ -225,6 +234,36 @@ def _stuck_force_samples(K, E, u_star, nu, stuck, sol, check_points):
         F = F + (E[:, :, np.newaxis] * relative_velocity).sum(axis=1)
     F = F + ((u_star + nu * times)[np.newaxis, :] - X)
     return times, F[stuck]
+
+
+def _first_missed_stop(slipping, sol, times, n):
+    """Earliest stop of a slipping block that solve_ivp did not report.
+
+    A velocity that dips below 0 and is back above it at the end of a step is not reported
+    (the event function is checked at step ends only).  A sample of a slipping block's
+    velocity below ``-_STOP_SLACK`` is a missed stop; its crossing is bracketed between the
+    last earlier sample above 0 and located with brentq on the dense output.  Returns
+    (time, block) or None.
+    """
+    V = sol.sol(times)[n:]
+    best = None
+    for i in np.flatnonzero(slipping):
+        below = V[i] < -_STOP_SLACK
+        if not below.any():
+            continue
+        b = int(np.argmax(below))
+        a = max(b - 1, 0)
+        while a > 0 and V[i, a] <= 0.0:
+            a -= 1
+        if V[i, a] <= 0.0:
+            root = float(times[a])
+        else:
+            root = brentq(
+                lambda t, i=i: sol.sol(t)[n + i], times[a], times[b], xtol=4 * _EPS, rtol=4 * _EPS
+            )
+        if best is None or root < best[0]:
+            best = (root, int(i))
+    return best
 
 
 def _first_missed_join(K, E, u_star, nu, stuck, sol, times, F_stuck):
@@ -343,11 +382,17 @@ def _one_event(
         # Missed joins (see module docstring): a stuck block whose force went above 1 at a
         # sample point.  Cut the segment at the earliest such crossing and join the block there.
         times, F_stuck = _stuck_force_samples(K, E, u_star, nu, stuck, sol, check_points)
-        missed = None
+        missed = stopped = None
         if repair_missed_joins:
             missed = _first_missed_join(K, E, u_star, nu, stuck, sol, times, F_stuck)
-        if missed is not None:
-            t = missed[0]
+            stopped = _first_missed_stop(segment_slipping, sol, times[times <= t], n)
+            if stopped is not None and (missed is None or stopped[0] < missed[0]):
+                missed = None
+            else:
+                stopped = None
+        cut = missed or stopped
+        if cut is not None:
+            t = cut[0]
             y = sol.sol(t)
             x = np.array(y[:n])
             v = np.maximum(np.array(y[n:]), 0.0)
@@ -357,6 +402,13 @@ def _one_event(
         F = forces(K, x, _plate(u_star, nu, t), v, E)
         samples = F_stuck[:, times <= t]
         worst = max(samples.max(initial=-math.inf), np.max(F[stuck], initial=-math.inf))
+        if phase_tol is not None and repair_missed_joins:
+            V = sol.sol(times[times <= t])[n:][segment_slipping]
+            if V.size and V.min() < -phase_tol:
+                raise MissedJoinError(
+                    f"a slipping block's velocity reached {V.min()!r} < -{phase_tol} in the "
+                    f"segment [{t_begin!r}, {t!r}] of an event: a missed stop"
+                )
         if phase_tol is not None and worst > 1.0 + phase_tol:
             where = np.argwhere(samples > 1.0 + phase_tol)
             block = int(np.flatnonzero(stuck)[where[0, 0]]) if len(where) else "?"
@@ -377,6 +429,7 @@ def _one_event(
                     "F": F.copy(),
                     "max_stuck_force": float(worst),
                     "missed_join": None if missed is None else missed[1],
+                    "missed_stop": None if stopped is None else stopped[1],
                     "sol": sol.sol,
                 }
             )
@@ -386,6 +439,9 @@ def _one_event(
             moved[missed[1]] = True
             v[missed[1]] = 0.0
             continue  # the events solve_ivp reported after the cut are not reached
+        if stopped is not None:
+            v[stopped[1]] = 0.0  # the consistency sweep sticks it (its acceleration is <= 0)
+            continue
 
         for i in range(n):
             fired = len(sol.t_events[i]) > 0 and sol.t_events[i][-1] == t
@@ -495,8 +551,9 @@ def reference_events(
         ``1 + phase_tol`` at the end of a segment or at a sample point inside it.  None turns
         the check off.
     check_points : sample points inside every integration step for the repair and the check.
-    repair_missed_joins : join a stuck block where its force crossed 1 unreported by solve_ivp
-        (see the module docstring); False reproduces the plain root finding, bit for bit.
+    repair_missed_joins : join a stuck block where its force crossed 1 unreported by solve_ivp,
+        and stop a slipping block where its velocity crossed 0 unreported (see the module
+        docstring); False reproduces the plain root finding, bit for bit.
     max_step : largest step of solve_ivp (smaller steps make a missed join less likely).
     record_phases : attach the segments of each event under ``"phases"``.
 
