@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 
 import faultnet
@@ -321,3 +322,39 @@ def test_soc_or_geometry_page_runs_in_fast_mode(tmp_path):
     assert all(0.2 < b < 4.0 for b in rows.values()), rows
     # the critical cluster cuts the automaton's avalanches off: a steeper fall than the lattice
     assert rows[("OFC", "cluster")] > rows[("OFC", "lattice")], rows
+
+
+# --------------------------------------------------------------------------- plate during events
+
+
+def _table(out, first_columns):
+    """The printed table whose header starts with ``first_columns``, as a DataFrame."""
+    lines = out.splitlines()
+    start = next(i for i, line in enumerate(lines) if line.split()[:2] == first_columns)
+    header = lines[start].split()
+    rows = []
+    for line in lines[start + 1 :]:
+        row = line.split()
+        if len(row) != len(header):
+            break
+        rows.append([float(v) for v in row])
+    return pd.DataFrame(rows, columns=header)
+
+
+def test_plate_page_runs_in_fast_mode(tmp_path):
+    out = run_fast("plot_plate_does_not_stop.py", tmp_path)
+    assert "FAST mode" in out
+    ring = _table(out, ["nu", "eta"])
+    assert len(ring) == 7 and (ring["events"] >= 200).all(), out
+    frozen = ring[ring["nu"] == 0]
+    # with the plate frozen the plate spends no displacement inside events, and every
+    # event is one unbroken patch of the ring (blocks fail only through their neighbours)
+    assert (frozen["busy"] == 0).all() and (frozen["split"] == 0).all(), out
+    busy = ring[ring["eta"] == 0].set_index("nu")["busy"]
+    assert busy[1e-5] < busy[1e-4] < busy[1e-3] < 1.0, out  # a factor 10 in nu each
+    split = ring[ring["eta"] == 0].set_index("nu")["split"]
+    assert split[1e-3] > 0, out  # a moving plate fails blocks far from the rupture
+    assert ring["b_mle"].between(0.05, 3.0).all(), out
+    xia = _table(out, ["N", "R"])
+    assert list(xia["R"]) == [1, 2, 5, 10] and xia["b_mle"].between(0.2, 3.0).all(), out
+    assert not re.search(r"(^|\s)/\w", out, re.M)  # no absolute path printed

@@ -114,14 +114,16 @@ def force(i, pos, W, graph):
     """Force on touched block ``i`` for the displacements in column ``pos`` of ``W``.
 
     Columns are passed by index, never as views: creating a view costs an atomic
-    reference-count update, which dominated the cost of a step.  The plate's advance is
-    added last (0.0 where the plate is frozen during events: bit for bit the force without).
+    reference-count update, which dominated the cost of a step.  The plate's advance and the
+    viscous pull are added last, and only where the model has them.
     """
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += kval[p] * W[indices[p], pos]
-    f = W[i, F0] + s - graph.diag[i] * W[i, pos] + W[plate_row(W), pos]
+    f = W[i, F0] + s - graph.diag[i] * W[i, pos]
+    if graph.nu > 0.0:
+        f += W[plate_row(W), pos]
     if graph.viscous:
         f += viscous(i, pos, W, graph)
     return f
@@ -144,9 +146,14 @@ def force_hot(i, pos, W, graph):
         s = 0.0
         for c in range(nbr.shape[1]):
             s += W[nbr[i, c], pos]
-        f = W[i, F0] + k * s - graph.diag[i] * W[i, pos] + W[plate_row(W), pos]
-        if graph.viscous:
-            f += viscous(np.int64(i), pos, W, graph)
+        f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
+        if graph.nu > 0.0:
+            f += W[W.shape[0] - 1, pos]
+        if graph.viscous:  # written out: a call here slows the stages of every model
+            vel = pos + VEL
+            for p in range(graph.indptr[i], graph.indptr[i + 1]):
+                f += graph.eta[p] * W[graph.indices[p], vel]
+            f -= graph.eta_sum[i] * W[i, vel]
         return f
     return force(np.int64(i), pos, W, graph)  # int64: dopri_step's blocks are unsigned
 

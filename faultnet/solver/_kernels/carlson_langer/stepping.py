@@ -77,7 +77,7 @@ def activate(j, nact, ntouch, w, keys, graph, work):
         nb_ = graph.indices[p]
         if IW[FLAG, nb_] == UNTOUCHED:
             ntouch = touch(nb_, w, keys, W, IW, ntouch)
-    W[j, A] = accel(j, P, V, W, graph)
+    W[j, A] = accel(j, D, V, W, graph)  # (P == D here: between steps)
     return nact + 1, ntouch
 
 
@@ -95,8 +95,6 @@ def deactivate(i, nact, W, IW):
     IW[FLAG, i] = STUCK
     W[i, V] = 0.0
     W[i, VN] = 0.0
-    W[i, Q] = 0.0
-    W[i, Q2] = 0.0
     return nact - 1
 
 
@@ -148,8 +146,6 @@ def restore_positions(nact, W, IW):
         i = IW[ACT, q]
         W[i, P] = W[i, D]
         W[i, P2] = W[i, D]
-        W[i, Q] = W[i, V]
-        W[i, Q2] = W[i, V]
     pr = plate_row(W)
     W[pr, P] = W[pr, P2] = W[pr, D]
 
@@ -181,8 +177,9 @@ def _taylor_shift(dh, nact, graph, work):
         W[i, P] = x
         W[i, P2] = x
         W[i, VN] += dh * W[i, AN]
-        W[i, Q] = W[i, VN]
-        W[i, Q2] = W[i, VN]
+        if graph.viscous:
+            W[i, Q] = W[i, VN]
+            W[i, Q2] = W[i, VN]
     if graph.nu > 0.0:
         pr = plate_row(W)
         W[pr, DN] += graph.nu * dh
@@ -278,4 +275,8 @@ def apply_crossing(who, kind, nact, ntouch, w, keys, graph, work):
     if kind == STICK and IW[FLAG, who] == ACTIVE:
         nact = deactivate(who, nact, W, IW)
     nact = stick_scan(nact, W, IW)
+    if graph.viscous:  # a stuck block's stage velocities are 0 for its neighbours' forces
+        for q in range(nact, hi):
+            W[IW[ACT, q], Q] = 0.0
+            W[IW[ACT, q], Q2] = 0.0
     return nact, ntouch, hi

@@ -11,7 +11,8 @@ array arguments then cost no atomic reference counting at call boundaries.
 Invariants kept by every kernel:
 - ``W[j, P] == W[j, P2] == W[j, D]`` for every block that is not active
   (neighbours read P and P2, the two stage-position buffers);
-- ``W[j, V] == W[j, VN] == W[j, Q] == W[j, Q2] == 0`` for every block that is not active;
+- ``W[j, V] == W[j, VN] == 0`` for every block that is not active, and in viscous models
+  ``W[j, Q] == W[j, Q2] == 0`` too;
 - the *plate row* ``W[2 N + 1]`` (:func:`plate_row`) holds, in each position column, the
   plate's advance ``nu t`` since the event's start at that column's instant; all zeros
   where the plate is frozen during events (``nu = 0``);
@@ -71,15 +72,19 @@ __all__ = [
 ]
 
 # float work columns of W: the committed state (D, V, A), the step's end (DN, VN, AN), the
-# stage positions (P, P2) and velocities (Q, Q2), the force at the start of the event (F0);
-# the interpolated crossings keep a crossing's fraction of the step in VS, a join's path end
-# in SV and SA, a stop's position in SV and its deceleration in SA (:mod:`.interp`).
+# stage positions (P, P2), the force at the start of the event (F0); the interpolated
+# crossings keep a crossing's fraction of the step in VS, a join's path end in SV and SA, a
+# stop's position in SV and its deceleration in SA (:mod:`.interp`).  Viscous models keep
+# the stage velocities of P and P2 in Q and Q2, the same columns as SV and SA: they take the
+# exact crossings, which never use SV and SA (two more columns cost the lattices 20% of
+# their events/s: a block's row stays 96 bytes).
 # Each position column's velocities sit ``VEL`` columns to its right (D with V, P with Q, P2
 # with Q2, DN with VN): the viscous force reads them there (:func:`.physics.force`).
 # (NumPy integers, not Python ints: Numba types them int64, not as literals, so a kernel
 # that takes a column compiles one signature for all of them)
-D, P, P2, DN, V, Q, Q2, VN, A, AN, SV, SA, VS, F0 = (np.int64(c) for c in range(14))
-N_WORK = 14
+D, P, P2, DN, V, SV, SA, VN, A, AN, VS, F0 = (np.int64(c) for c in range(12))
+Q, Q2 = SV, SA
+N_WORK = 12
 #: the velocities of position column ``c`` are column ``c + VEL``
 VEL = np.int64(4)
 # int work rows: the block flags, the active list and each block's position in it, the
