@@ -29,7 +29,7 @@ friction law is a change of :func:`friction`, :func:`friction_slope` and :func:`
 
 Where the time and the velocities enter: a position column ``pos`` of ``W`` comes with the
 plate's advance at its instant (``W[plate_row(W), pos]``) and with the velocities at that
-instant (column ``pos + VEL``), see :mod:`.work`.
+instant (column ``velocities(pos)``), see :mod:`.work`.
 
 Arguments: ``i`` a block, ``pos`` and ``vel`` columns of the work array ``W`` (positions,
 velocities), ``v`` a velocity, ``graph`` the ``Graph`` bundle (springs
@@ -41,7 +41,16 @@ the frame offset ``off``), ``keys`` the failure keys, ``w`` the plate position.
 
 import numpy as np
 
-from faultnet.solver._kernels.carlson_langer.work import ACTIVE, AN, F0, FLAG, VEL, VN, D, plate_row
+from faultnet.solver._kernels.carlson_langer.work import (
+    ACTIVE,
+    AN,
+    F0,
+    FLAG,
+    VN,
+    D,
+    plate_row,
+    velocities,
+)
 from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
 
 __all__ = [
@@ -99,10 +108,10 @@ def load(j, w, keys):
 def viscous(i, pos, W, graph):
     """Viscous force ``sum_j eta_ij (v_j - v_i)`` on block ``i`` at the instant of column ``pos``.
 
-    The velocities are those of column ``pos + VEL`` (zero for blocks that do not slip).
+    The velocities are those of column ``velocities(pos)`` (zero for blocks that do not slip).
     """
     indptr, indices, eta = graph.indptr, graph.indices, graph.eta
-    vel = pos + VEL
+    vel = velocities(pos)
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += eta[p] * W[indices[p], vel]
@@ -150,7 +159,7 @@ def force_hot(i, pos, W, graph):
         if graph.nu > 0.0:
             f += W[W.shape[0] - 1, pos]
         if graph.viscous:  # written out: a call here slows the stages of every model
-            vel = pos + VEL
+            vel = velocities(pos)
             for p in range(graph.indptr[i], graph.indptr[i + 1]):
                 f += graph.eta[p] * W[graph.indices[p], vel]
             f -= graph.eta_sum[i] * W[i, vel]

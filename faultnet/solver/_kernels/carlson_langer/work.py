@@ -64,11 +64,11 @@ __all__ = [
     "TOUCH",
     "UNTOUCHED",
     "V",
-    "VEL",
     "VN",
     "VS",
     "new_id",
     "plate_row",
+    "velocities",
 ]
 
 # float work columns of W: the committed state (D, V, A), the step's end (DN, VN, AN), the
@@ -78,15 +78,14 @@ __all__ = [
 # the stage velocities of P and P2 in Q and Q2, the same columns as SV and SA: they take the
 # exact crossings, which never use SV and SA (two more columns cost the lattices 20% of
 # their events/s: a block's row stays 96 bytes).
-# Each position column's velocities sit ``VEL`` columns to its right (D with V, P with Q, P2
-# with Q2, DN with VN): the viscous force reads them there (:func:`.physics.force`).
+# The velocities at the instant of a position column (D with V, P with Q, P2 with Q2, DN with
+# VN) are what the viscous force reads (:func:`velocities`); the columns keep the order the
+# stage passes were measured with (``benchmarks/README.md``).
 # (NumPy integers, not Python ints: Numba types them int64, not as literals, so a kernel
 # that takes a column compiles one signature for all of them)
-D, P, P2, DN, V, SV, SA, VN, A, AN, VS, F0 = (np.int64(c) for c in range(12))
+D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = (np.int64(c) for c in range(12))
 Q, Q2 = SV, SA
 N_WORK = 12
-#: the velocities of position column ``c`` are column ``c + VEL``
-VEL = np.int64(4)
 # int work rows: the block flags, the active list and each block's position in it, the
 # touched list, the tags of the stuck blocks a step's scan has evaluated (fresh ids from
 # :func:`new_id`), the crossings a step's scan listed; and by fault number, the event (plus 1)
@@ -126,3 +125,15 @@ def new_id(cnt):
 def plate_row(W):
     """Index of the plate row of ``W`` (its last): the plate's advance per position column."""
     return W.shape[0] - 1
+
+
+@kernel
+def velocities(pos):
+    """The column of the velocities at the instant of position column ``pos`` (D, P, P2, DN)."""
+    if pos == D:
+        return V
+    if pos == DN:
+        return VN
+    if pos == P:
+        return Q
+    return Q2
