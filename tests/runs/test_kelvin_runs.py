@@ -11,7 +11,7 @@ from crash_hooks import Crash, crash_after
 
 import faultnet
 from faultnet.exceptions import ConfigError, InvalidParameterError, OutputExistsError
-from faultnet.io.parquet import read_metadata
+from faultnet.io.parquet import read_catalog, read_metadata
 from faultnet.model.identity import graph_hash
 from faultnet.runs import spec_run
 from faultnet.runs.checkpoint import checkpoint_dir, prepare_resume
@@ -274,3 +274,16 @@ def test_summarize_rebuilds_every_point_of_an_ofc_sweep(tmp_path):
     table = summarize(tmp_path)
     assert table["point"].tolist() == [0, 1]
     assert table["model"].tolist() == ["ofc", "ofc"]
+
+
+def test_long_run_resumes_bit_identically(tmp_path):
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(80), alpha=1.0, nu=0.001, eta=0.1)
+    kw = {"rng": 9, "chunk_events": 500, "progress": False}
+    faultnet.simulate_to_parquet(model, 3000, tmp_path / "ref.parquet", **kw)
+    out = tmp_path / "run.parquet"
+    with pytest.raises(Crash):
+        faultnet.simulate_to_parquet(model, 3000, out, on_commit=crash_after(3), **kw)
+    faultnet.simulate_to_parquet(model, 3000, out, resume=True, **kw)
+    a, b = read_catalog(tmp_path / "ref.parquet"), read_catalog(out)
+    assert a.events.equals(b.events)
+    assert b.metadata["nu"] == 0.001 and b.metadata["eta"] == 0.1

@@ -20,7 +20,6 @@ from test_reference_plate import (
 
 import faultnet
 from faultnet.exceptions import InvalidParameterError
-from faultnet.io.parquet import read_catalog
 
 #: (nu, eta): the plate alone, viscosity alone, both, a slow plate with strong viscosity
 CASES = [(0.01, 0.0), (0.0, 0.1), (0.01, 0.1), (0.001, 0.5)]
@@ -204,31 +203,6 @@ def test_no_block_is_left_above_the_threshold():
         res = faultnet.simulate(model, 1, x0=state, progress=False)
         state = res.state
         assert np.max(model.forces(state.x, state.u)) < 1.0 + 1e-9
-
-
-class Crash(BaseException):
-    """Stands in for a kill after a commit."""
-
-
-def crash_after(n):
-    def on_commit(n_chunks):
-        if n_chunks == n:
-            raise Crash
-
-    return on_commit
-
-
-def test_long_run_resumes_bit_identically(tmp_path):
-    model = faultnet.CarlsonLanger(faultnet.graphs.ring(80), alpha=1.0, nu=0.001, eta=0.1)
-    kw = {"rng": 9, "chunk_events": 500, "progress": False}
-    faultnet.simulate_to_parquet(model, 3000, tmp_path / "ref.parquet", **kw)
-    out = tmp_path / "run.parquet"
-    with pytest.raises(Crash):
-        faultnet.simulate_to_parquet(model, 3000, out, on_commit=crash_after(3), **kw)
-    faultnet.simulate_to_parquet(model, 3000, out, resume=True, **kw)
-    a, b = read_catalog(tmp_path / "ref.parquet"), read_catalog(out)
-    assert a.events.equals(b.events)
-    assert b.metadata["nu"] == 0.001 and b.metadata["eta"] == 0.1
 
 
 def test_interpolated_crossings_are_refused():
