@@ -117,14 +117,6 @@ def _check_kelvin(args):
         )
 
 
-def _kelvin_text(md) -> str:
-    """`` nu=... eta=...`` of a run's metadata, each only where the run has it (not 0)."""
-    parts = [f" {name}={md[name]}" for name in ("nu", "eta") if md.get(name) is not None]
-    if md.get("eta_heterogeneous"):
-        parts.append(" (per-edge eta)")
-    return "".join(parts)
-
-
 def _side_files(path):
     """The side tables written next to the catalog ``path`` (slips, per-fault slips)."""
     from faultnet.io.slips import SIDE_TABLES, side_path
@@ -134,6 +126,8 @@ def _side_files(path):
 
 def _print_run(args, report, elapsed, out):
     """The first lines of ``faultnet simulate``: what ran, how fast, with which parameters."""
+    from faultnet.io.summary import kelvin_text
+
     md = report.metadata
     n = md["n_events"]
     if report.status == "already complete":
@@ -158,7 +152,7 @@ def _print_run(args, report, elapsed, out):
         )
         return
     print(
-        f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']}{_kelvin_text(md)} "
+        f"parameters  k={md['k']} sigma={md['sigma']} alpha={md['alpha']}{kelvin_text(md)} "
         f"seed={md['seed_entropy']}",
         file=out,
     )

@@ -78,7 +78,7 @@ the same, bit for bit, as an uninterrupted run with the same seed.
 
 examples:
   faultnet simulate ring:2000 --alpha 2 --events 1e6 --seed 1 --out ring.parquet
-  faultnet simulate ring:2000 --nu 0.01 --eta 0.1 --events 1e5 --out viscous.parquet
+  faultnet simulate ring:2000 --nu 1e-4 --eta 0.1 --events 1e5 --out viscous.parquet
   faultnet simulate percolation:square:150x150:p=0.5927 --events 1e6 --out perc.parquet
   faultnet simulate --resume --out ring.parquet      # continue a killed run
   faultnet simulate --continue --out ring.parquet -n 200000   # extend a finished run
@@ -170,19 +170,8 @@ def _add_simulate(sub):
     p.add_argument("--k", type=_finite, help="spring constant (default 16, or the graph file's)")
     p.add_argument("--sigma", type=_finite, help="friction drop in (0, 1) (default 0.01)")
     p.add_argument("--alpha", type=_finite, help="velocity weakening >= 0 (default 1)")
-    p.add_argument(
-        "--nu",
-        type=_finite,
-        metavar="NU",
-        help="velocity >= 0 of the loading plate during slip events (default 0: at rest)",
-    )
-    p.add_argument(
-        "--eta",
-        type=_finite,
-        metavar="ETA",
-        help="viscous coupling >= 0 of the springs (default 0; edge eta of a graph file sets "
-        "single springs)",
-    )
+    p.add_argument("--nu", type=_finite, help="plate velocity >= 0 during events (default 0)")
+    p.add_argument("--eta", type=_finite, help="viscous coupling >= 0 of springs (default 0)")
     p.add_argument(
         "--seed",
         type=_nonneg_int,

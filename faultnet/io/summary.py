@@ -39,6 +39,7 @@ __all__ = [
     "default_transient",
     "fit_b_values",
     "format_metadata",
+    "kelvin_text",
     "format_stats",
     "read_magnitudes",
 ]
@@ -277,6 +278,12 @@ def format_stats(md, st) -> str:
     return "\n".join(lines)
 
 
+def kelvin_text(md) -> str:
+    """`` nu=... eta=...`` of a run's metadata, each only where the run has it (not 0)."""
+    parts = [f" {name}={md[name]}" for name in ("nu", "eta") if md.get(name) is not None]
+    return "".join(parts) + (" (per-edge eta)" if md.get("eta_heterogeneous") else "")
+
+
 def format_metadata(md) -> str:
     """Human-readable lines for a catalog's parameters and provenance."""
     lines = []
@@ -293,12 +300,9 @@ def format_metadata(md) -> str:
             f"({md.get('update')} topplings){het}"
         )
     else:
-        kelvin = "".join(f" {name}={md[name]}" for name in ("nu", "eta") if name in md)
-        if md.get("eta_heterogeneous"):
-            het += "  (per-edge eta)"
         lines.append(
             f"parameters  k={md.get('k')} sigma={md.get('sigma')} alpha={md.get('alpha')}"
-            f"{kelvin} dt={md.get('dt')}{het}"
+            f"{kelvin_text(md)} dt={md.get('dt')}{het}"
         )
     seed = f"SeedSequence entropy {md.get('seed_entropy')}, spawn key {md.get('seed_spawn_key')}"
     if md.get("graph_seed_entropy") is not None:

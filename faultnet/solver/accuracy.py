@@ -105,7 +105,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from faultnet.exceptions import AccuracyWarning, InvalidParameterError
-from faultnet.solver.step_size import CROSSINGS, check_crossings
+from faultnet.solver.step_size import CROSSINGS, VISCOUS_SAFETY, check_crossings
 
 __all__ = [
     "CALIBRATION",
@@ -113,7 +113,6 @@ __all__ = [
     "INTERPOLATED_FROM",
     "RTOL_RANGE",
     "StepChoice",
-    "VISCOUS_SAFETY",
     "graph_class",
     "step_for_rtol",
 ]
@@ -252,15 +251,6 @@ def graph_class(model):
     return "ring" if model.adjacency.nnz <= 2.5 * model.n else "2-D"
 
 
-#: the calibration has neither the plate moving during events nor viscous coupling, whose
-#: models take the exact treatment (:meth:`RunOptions.treatment`).  With the plate moving the
-#: exact treatment's step keeps its meaning (90% error over all events, one-block events
-#: included, at most 0.61 rtol at rtol 1e-6 on 16 random graphs); with viscous coupling it
-#: reached 2.4 rtol on one of 24, so a viscous model takes the step for ``rtol /
-#: VISCOUS_SAFETY`` (then at most 1.16 rtol; ``benchmarks/README.md``)
-VISCOUS_SAFETY = 2.0
-
-
 @dataclass(frozen=True)
 class StepChoice:
     """Integration settings for one accuracy.
@@ -392,10 +382,8 @@ def step_for_rtol(model, rtol, method="dopri5", crossings=None):
     if _gap(covered, alpha) > 0.0 and model.adjacency.nnz:  # without springs: solo slips only
         _warn_outside(cls, crossings, alpha, covered)
     rows = _columns(cls, crossings, alpha)
-    target = rtol / SAFETY[cls][crossings]
-    if getattr(model, "viscous", False):
-        target /= VISCOUS_SAFETY
-    coef = _coefficient(rows, crossings, target)
+    viscous = VISCOUS_SAFETY if getattr(model, "viscous", False) else 1.0
+    coef = _coefficient(rows, crossings, rtol / SAFETY[cls][crossings] / viscous)
     return StepChoice(coef / math.sqrt(omega2_max(model)), coef, crossings, method)
 
 

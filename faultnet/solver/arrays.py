@@ -297,9 +297,7 @@ class KernelArrays:
             eta=model.eta_values,
         )
         self.ctrl[CTRL_DT] = dt
-        # a lone slip is the same in every block of a class only where the plate is frozen
-        # during events and no block drags its neighbours viscously
-        if model.nu > 0.0 or model.viscous:
+        if model.nu > 0.0 or model.viscous:  # lone slips then differ from block to block
             self.ctrl[CTRL_SOLO_CACHE] = 0.0
         self.kernel = getattr(_kernels(), self.options.entry(model))
         # a network of faults sums each event's slips per fault from the per-block rows

@@ -7,7 +7,7 @@ import pytest
 from faultnet.__main__ import main
 from faultnet.cli import commands
 from faultnet.cli.parser import build_parser
-from faultnet.io.summary import format_metadata
+from faultnet.io.summary import format_metadata, kelvin_text
 from faultnet.runs import spec_run
 
 SIMULATE = ["simulate", "ring:10", "--events", "10"]
@@ -92,12 +92,12 @@ def test_a_finished_run_is_not_resumed_with_another_nu(tmp_path, capsys, one_lin
 def test_parameters_lines_show_nu_and_eta_where_not_zero():
     md = {"k": 16.0, "sigma": 0.01, "alpha": 1.0, "dt": 0.02, "graph": "ring(5)"}
     assert "parameters  k=16.0 sigma=0.01 alpha=1.0 dt=0.02\n" in format_metadata(md) + "\n"
-    assert commands._kelvin_text(md) == ""
+    assert kelvin_text(md) == ""
     md.update(nu=0.01, eta=0.1, eta_heterogeneous=False)
     assert "parameters  k=16.0 sigma=0.01 alpha=1.0 nu=0.01 eta=0.1 dt=0.02" in format_metadata(md)
-    assert commands._kelvin_text(md) == " nu=0.01 eta=0.1"
+    assert kelvin_text(md) == " nu=0.01 eta=0.1"
     md.update(eta_heterogeneous=True)
-    assert commands._kelvin_text(md) == " nu=0.01 eta=0.1 (per-edge eta)"
+    assert kelvin_text(md) == " nu=0.01 eta=0.1 (per-edge eta)"
     assert "(per-edge eta)" in format_metadata(md)
 
 

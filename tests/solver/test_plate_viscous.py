@@ -215,7 +215,8 @@ def test_interpolated_crossings_are_refused():
 def test_the_step_of_an_rtol():
     """The plate keeps the exact treatment's calibrated step; viscosity takes the step of
     rtol / VISCOUS_SAFETY (seed 3 above needs it: its 90% error was 2.4e-6 without)."""
-    from faultnet.solver.accuracy import VISCOUS_SAFETY, step_for_rtol
+    from faultnet.solver.accuracy import step_for_rtol
+    from faultnet.solver.step_size import VISCOUS_SAFETY
 
     plain = faultnet.CarlsonLanger(faultnet.graphs.ring(20))
     exact = step_for_rtol(plain, 1e-6, crossings="exact")
