@@ -158,11 +158,8 @@ def force_hot(i, pos, W, graph):
         f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
         if graph.nu > 0.0:
             f += W[W.shape[0] - 1, pos]
-        if graph.viscous:  # written out: a call here slows the stages of every model
-            vel = velocities(pos)
-            for p in range(graph.indptr[i], graph.indptr[i + 1]):
-                f += graph.eta[p] * W[graph.indices[p], vel]
-            f -= graph.eta_sum[i] * W[i, vel]
+        if graph.viscous:
+            f += viscous(np.int64(i), pos, W, graph)
         return f
     return force(np.int64(i), pos, W, graph)  # int64: dopri_step's blocks are unsigned
 
