@@ -27,7 +27,7 @@ from faultnet.model.springs import (
 if TYPE_CHECKING:  # scipy.sparse is imported where used: 0.2 s off `import faultnet`
     import scipy.sparse as sp
 
-__all__ = ["CarlsonLanger", "SparseGraph"]  # SparseGraph lives in faultnet.model.sparse_graph
+__all__ = ["CarlsonLanger"]  # SparseGraph (imported here too) lives in model.sparse_graph
 
 
 def _check_sigma(value, where):
