@@ -85,20 +85,27 @@ def check_graph(g):
         )
 
 
-def spring_matrix(g, index, k):
-    """Symmetric CSR matrix of the spring constants ``k_ij`` (edge attribute ``k``, else ``k``),
-    rows in the order of ``index`` (node -> row), indices sorted."""
-    import scipy.sparse as sp  # here, not at import: 0.2 s off `import faultnet`
-
+def _edge_attribute(g, index, name, default, check):
+    """(rows, cols, values) of the edge attribute ``name`` (``default`` where unset), one entry
+    per edge, each value checked by ``check`` (its error names the edge)."""
     m = g.number_of_edges()
     rows = np.empty(m, dtype=np.int64)
     cols = np.empty(m, dtype=np.int64)
     vals = np.empty(m, dtype=np.float64)
     for e, (a, b, data) in enumerate(g.edges(data=True)):
         where = f" on edge ({a!r}, {b!r})"
-        kv = as_float(data.get("k", k), "k", where)
-        check_k(kv, where)
-        rows[e], cols[e], vals[e] = index[a], index[b], kv
+        value = as_float(data.get(name, default), name, where)
+        check(value, where)
+        rows[e], cols[e], vals[e] = index[a], index[b], value
+    return rows, cols, vals
+
+
+def spring_matrix(g, index, k):
+    """Symmetric CSR matrix of the spring constants ``k_ij`` (edge attribute ``k``, else ``k``),
+    rows in the order of ``index`` (node -> row), indices sorted."""
+    import scipy.sparse as sp  # here, not at import: 0.2 s off `import faultnet`
+
+    rows, cols, vals = _edge_attribute(g, index, "k", k, check_k)
     n = len(index)
     mat = sp.coo_matrix(
         (
@@ -148,15 +155,7 @@ def edge_values(g, index, adjacency, name, default, check):
     :func:`pattern_values`); ``adjacency`` is :func:`spring_matrix` of the same graph."""
     if not any(name in data for _, _, data in g.edges(data=True)):
         return np.full(adjacency.nnz, float(default))
-    m = g.number_of_edges()
-    rows = np.empty(m, dtype=np.int64)
-    cols = np.empty(m, dtype=np.int64)
-    vals = np.empty(m, dtype=np.float64)
-    for e, (a, b, data) in enumerate(g.edges(data=True)):
-        where = f" on edge ({a!r}, {b!r})"
-        value = as_float(data.get(name, default), name, where)
-        check(value, where)
-        rows[e], cols[e], vals[e] = index[a], index[b], value
+    rows, cols, vals = _edge_attribute(g, index, name, default, check)
     return pattern_values(
         adjacency,
         np.concatenate([rows, cols]),
