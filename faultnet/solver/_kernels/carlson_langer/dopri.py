@@ -13,6 +13,7 @@ the next step's A), see docs/guide/performance.rst.
 
 import numpy as np
 
+from faultnet.solver._kernels.bundles import kelvin
 from faultnet.solver._kernels.carlson_langer.crossing import STATUS_OK, block_crossings
 from faultnet.solver._kernels.carlson_langer.physics import accel_hot
 from faultnet.solver._kernels.carlson_langer.tableau import (
@@ -84,7 +85,9 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     ``work``: :class:`~faultnet.solver._kernels.bundles.Graph` and ``Work``, unpacked once here; the
     stage passes inline :func:`~.physics.accel_hot` and the scan.
 
-    Where the plate moves during events (``graph.nu``), each pass first sets the plate's
+    Both are compiled for a :data:`~faultnet.solver._kernels.bundles.KelvinGraph` only: the
+    plain model's passes have neither branch.  Where the plate moves during events
+    (``graph.nu``), each pass first sets the plate's
     advance at its stage's time in the plate row; with viscous coupling (``graph.viscous``)
     each pass also writes its blocks' next stage velocities in the column paired with the
     positions it writes (Q with P, Q2 with P2), which the viscous force of their neighbours
@@ -96,7 +99,8 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     """
     W, IW = work.W, work.IW
     K = stage_rows(work)
-    visc = graph.viscous
+    visc = kelvin(graph) and graph.viscous
+    moving = kelvin(graph) and graph.nu > 0.0
     pr = plate_row(W)
     nu_h = graph.nu * h
     base = W[pr, D]
@@ -110,7 +114,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KV + 1] = v + h * _A21 * a
         if visc:
             W[i, Q] = K[q, KV + 1]
-    if nu_h > 0.0:
+    if moving:
         W[pr, P] = base + _C2 * nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
@@ -121,7 +125,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KV + 2] = W[i, V] + h * (_A31 * K[q, KA] + _A32 * a2)
         if visc:
             W[i, Q2] = K[q, KV + 2]
-    if nu_h > 0.0:
+    if moving:
         W[pr, P2] = base + _C3 * nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
@@ -132,7 +136,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KV + 3] = W[i, V] + h * (_A41 * K[q, KA] + _A42 * K[q, KA + 1] + _A43 * a3)
         if visc:
             W[i, Q] = K[q, KV + 3]
-    if nu_h > 0.0:
+    if moving:
         W[pr, P] = base + _C4 * nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
@@ -145,7 +149,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KV + 4] = W[i, V] + h * dv
         if visc:
             W[i, Q2] = K[q, KV + 4]
-    if nu_h > 0.0:
+    if moving:
         W[pr, P2] = base + _C5 * nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
@@ -170,7 +174,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KV + 5] = W[i, V] + h * dv
         if visc:
             W[i, Q] = K[q, KV + 5]
-    if nu_h > 0.0:
+    if moving:
         W[pr, P] = base + nu_h
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
@@ -189,7 +193,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         W[i, P2] = dn
         if visc:
             W[i, Q2] = W[i, VN]
-    if nu_h > 0.0:
+    if moving:
         W[pr, P2] = W[pr, DN] = base + nu_h
     best = 2.0
     who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures

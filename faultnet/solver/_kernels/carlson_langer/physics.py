@@ -41,6 +41,7 @@ the frame offset ``off``), ``keys`` the failure keys, ``w`` the plate position.
 
 import numpy as np
 
+from faultnet.solver._kernels.bundles import kelvin
 from faultnet.solver._kernels.carlson_langer.work import (
     ACTIVE,
     AN,
@@ -124,17 +125,19 @@ def force(i, pos, W, graph):
 
     Columns are passed by index, never as views: creating a view costs an atomic
     reference-count update, which dominated the cost of a step.  The plate's advance and the
-    viscous pull are added last, and only where the model has them.
+    viscous pull are added last, and only where the model has them (compiled only for a
+    :data:`~faultnet.solver._kernels.bundles.KelvinGraph`).
     """
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += kval[p] * W[indices[p], pos]
     f = W[i, F0] + s - graph.diag[i] * W[i, pos]
-    if graph.nu > 0.0:
-        f += W[plate_row(W), pos]
-    if graph.viscous:
-        f += viscous(i, pos, W, graph)
+    if kelvin(graph):
+        if graph.nu > 0.0:
+            f += W[plate_row(W), pos]
+        if graph.viscous:
+            f += viscous(i, pos, W, graph)
     return f
 
 
@@ -156,10 +159,11 @@ def force_hot(i, pos, W, graph):
         for c in range(nbr.shape[1]):
             s += W[nbr[i, c], pos]
         f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
-        if graph.nu > 0.0:
-            f += W[W.shape[0] - 1, pos]
-        if graph.viscous:
-            f += viscous(np.int64(i), pos, W, graph)
+        if kelvin(graph):
+            if graph.nu > 0.0:
+                f += W[W.shape[0] - 1, pos]
+            if graph.viscous:
+                f += viscous(np.int64(i), pos, W, graph)
         return f
     return force(np.int64(i), pos, W, graph)  # int64: dopri_step's blocks are unsigned
 
