@@ -85,13 +85,13 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     ``work``: :class:`~faultnet.solver._kernels.bundles.Graph` and ``Work``, unpacked once here; the
     stage passes inline :func:`~.physics.accel_hot` and the scan.
 
-    Both are compiled for a :data:`~faultnet.solver._kernels.bundles.KelvinGraph` only: the
-    plain model's passes have neither branch.  Where the plate moves during events
-    (``graph.nu``), each pass first sets the plate's
+    Where the plate moves during events (``graph.nu``), each pass first sets the plate's
     advance at its stage's time in the plate row; with viscous coupling (``graph.viscous``)
     each pass also writes its blocks' next stage velocities in the column paired with the
     positions it writes (Q with P, Q2 with P2), which the viscous force of their neighbours
-    reads.  After the step P and P2 hold the step's end, with VN in Q and Q2.
+    reads.  After the step P and P2 hold the step's end, with VN in Q and Q2.  Both are
+    compiled for a :data:`~faultnet.solver._kernels.bundles.KelvinGraph` only: a plain
+    model's passes have neither branch.
 
     The passes index with unsigned integers (active positions q, blocks i), for which Numba
     omits its negative-index wrap-around: 2-5% more events/s on W1, W4 and W5.  The scan and
