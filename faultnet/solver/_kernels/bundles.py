@@ -307,8 +307,8 @@ def graph_bundle(
         nbr = padded_neighbours(indptr, indices)
     hubs = nbr.shape[1] < int(np.diff(indptr).max(initial=0))
     uniform = not hubs and kval.size > 0 and kval[0] > 0.0 and bool(np.all(kval == kval[0]))
-    kelvin_model = nu > 0.0 or bool(np.any(eta > 0.0))
-    return (KelvinGraph if kelvin_model else Graph)(
+    viscous = bool(np.any(eta > 0.0))
+    return (KelvinGraph if nu > 0.0 or viscous else Graph)(
         indptr=indptr,
         indices=indices,
         kval=kval,
@@ -328,7 +328,7 @@ def graph_bundle(
             weights=eta,
             minlength=indptr.shape[0] - 1,
         ).astype(np.float64),
-        viscous=bool(np.any(eta > 0.0)),
+        viscous=viscous,
     )
 
 
