@@ -221,10 +221,21 @@ def test_seal_round_trip_and_rejections():
             cache.unseal(bad)
 
 
-def test_a_real_kernel_with_one_byte_changed_gives_the_same_catalog(tmp_path):
+@pytest.fixture(scope="module")
+def cold_catalog(tmp_path_factory):
+    """A fresh Numba cache filled by one run of ``HASH``, and that run's catalog digest (one
+    cold compile, shared by the tests below)."""
+    cache_dir = tmp_path_factory.mktemp("cold") / "numba_cache"
+    digest, _ = _catalog_hash(cache_dir)
+    return cache_dir, digest
+
+
+def test_a_real_kernel_with_one_byte_changed_gives_the_same_catalog(tmp_path, cold_catalog):
     """The severe case: one changed byte of machine code ran and gave a different catalog."""
+    import shutil
+
     cache_dir = tmp_path / "numba_cache"
-    first, err = _catalog_hash(cache_dir)
+    shutil.copytree(cold_catalog[0], cache_dir)
     # every kernel has its files; the entry kernel's code holds the kernels it calls
     (path,) = [
         os.path.join(d, f)
@@ -237,7 +248,7 @@ def test_a_real_kernel_with_one_byte_changed_gives_the_same_catalog(tmp_path):
     with open(path, "wb") as fh:
         fh.write(_flip_byte(data))
     second, err = _catalog_hash(cache_dir)
-    assert second == first
+    assert second == cold_catalog[1]
     assert err.count("discarded the damaged kernel cache file") == 1, err
 
 
@@ -258,7 +269,7 @@ def _catalog_hash(cache_dir, env=None, cwd=None):
     return out.stdout.strip().splitlines()[-1], out.stderr.strip()
 
 
-def test_no_writable_cache_folder_runs_with_one_line(tmp_path):
+def test_no_writable_cache_folder_runs_with_one_line(tmp_path, cold_catalog):
     """A shared install whose HOME and NUMBA_CACHE_DIR are read-only: no traceback."""
     import shutil
 
@@ -284,4 +295,4 @@ def test_no_writable_cache_folder_runs_with_one_line(tmp_path):
     digest, err = _catalog_hash(blocker / "numba", env, cwd=tmp_path)
     assert len(err.splitlines()) == 1 and "Traceback" not in err, err
     assert "no writable folder for the kernel cache" in err and "NUMBA_CACHE_DIR" in err
-    assert digest == _catalog_hash(tmp_path / "numba_cache")[0]
+    assert digest == cold_catalog[1]
