@@ -1,9 +1,4 @@
-"""Dormand-Prince 5(4): coefficients, stage storage and the dense output.
-
-The tableau is written out as named constants so each stage pass of
-:func:`~.dopri.dopri_step` is straight-line code with constant
-coefficients (20% faster than loops over a coefficient array).
-"""
+"""Dormand-Prince 5(4): stage storage and the dense output (the step is :mod:`.dopri`)."""
 
 import numpy as np
 
@@ -20,16 +15,6 @@ KV = np.int64(0)  # 6 columns of stage velocities (int64, not a literal: see wor
 KA = np.int64(6)  # 6 columns of stage accelerations
 N_STAGE = 12
 
-# Butcher tableau (Dormand & Prince 1980)
-_A21 = 1 / 5
-_A31, _A32 = 3 / 40, 9 / 40
-_A41, _A42, _A43 = 44 / 45, -56 / 15, 32 / 9
-_A51, _A52, _A53, _A54 = 19372 / 6561, -25360 / 2187, 64448 / 6561, -212 / 729
-_A61, _A62, _A63, _A64, _A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -5103 / 18656
-# the stages' times, as fractions of the step (c6 = c7 = 1)
-_C2, _C3, _C4, _C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
-# weights of the 5th-order solution (b2 = 0)
-_B1, _B3, _B4, _B5, _B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
 # Dense output (Shampine 1986, as in Hairer's DOPRI5 CONTD5): 4th-order continuous
 # extension from the same stages, stage 7 being the derivative at the step's end
 _D1 = -12715105075.0 / 11282082432.0
