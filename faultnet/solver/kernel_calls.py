@@ -66,26 +66,21 @@ class _Call:
 
 
 def _serve(calls, lock, ctrl):
-    """The worker's loop: run each call once, in order, until ``None`` arrives.
-
-    It keeps no reference to a call once done (a call's closure holds the simulator's arrays,
-    whose collection ends this thread).
-    """
+    """The worker's loop: run each call once, in order, until ``None`` arrives."""
     while (call := calls.get()) is not None:
-        if not call.taken:  # (handed over twice where an interruption hit the hand-over)
-            call.taken = True
-            with lock:
-                run = not call.cancelled
-                if run:
-                    ctrl[CTRL_STOP] = 0.0
+        if call.taken:  # handed over twice (an interruption hit the hand-over)
+            continue
+        call.taken = True
+        with lock:
+            run = not call.cancelled
             if run:
-                try:
-                    call.result = call.run()
-                except BaseException as exc:  # handed to the waiting thread
-                    call.error = exc
-            call.run = None
-            call.done.set()
-        del call
+                ctrl[CTRL_STOP] = 0.0
+        if run:
+            try:
+                call.result = call.run()
+            except BaseException as exc:  # handed to the waiting thread
+                call.error = exc
+        call.done.set()
 
 
 class KernelWorker:

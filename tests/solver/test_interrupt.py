@@ -6,7 +6,6 @@ at any moment goes on with the events of an uninterrupted run, bit for bit.
 """
 
 import _thread
-import gc
 import os
 import signal
 import subprocess
@@ -126,15 +125,3 @@ def test_sigterm_stops_the_command_inside_a_never_ending_event(tmp_path):
     assert time.perf_counter() - t0 < 300
     if os.environ.get("CI") is None:  # a warm kernel cache: within a few steps
         assert time.perf_counter() - t0 < 30
-
-
-def test_dropped_simulators_end_their_worker_threads():
-    model = MODELS["interpolated"]()
-    before = threading.active_count()
-    for seed in range(50):
-        faultnet.simulate(model, 5, rng=seed, progress=False)
-    gc.collect()
-    deadline = time.monotonic() + 5.0
-    while threading.active_count() > before + 1 and time.monotonic() < deadline:
-        time.sleep(0.05)
-    assert threading.active_count() <= before + 1
