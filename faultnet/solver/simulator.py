@@ -230,13 +230,6 @@ class Simulator:
         -------
         SimulationResult
             The chunk's events; ``result.state`` equals :attr:`state`.
-
-        Notes
-        -----
-        Ctrl-C (``KeyboardInterrupt``) stops the call within one integration step, also inside
-        a long event, which is undone: the simulator is left after its last complete event and
-        goes on with the events of an uninterrupted run.  The catalog of the interrupted call
-        is not returned.
         """
         n_events = check_int("n_events", n_events)
         n = self._model.n
@@ -258,6 +251,7 @@ class Simulator:
         cat_i = np.zeros((n_events, CAT_I_SIZE), dtype=np.int64)
         wall, steps, block_steps = self._loop(n_events, ev0, cat_f, cat_i, progress)
         arr.take_slips(self._max_slip_rows)
+        arr.n_events = ev0 + n_events
         md = run_metadata(self._model, self._options, self._dt, self._seed, self._solo_cache)
         md.update(
             first_event=ev0,
@@ -306,7 +300,7 @@ class Simulator:
             while done < n_events:
                 n_req = min(chunk, n_events - done)
                 tic = time.perf_counter()
-                status, stop = arr.call(n_req, ev0 + done, cat_f[done:], cat_i[done:], done)
+                status = arr.call(n_req, ev0 + done, cat_f[done:], cat_i[done:], done)
                 if compiling:  # the bar's clock and rate count the simulation only
                     bar.unpause()
                     bar.set_description_str("faultnet")
@@ -316,8 +310,6 @@ class Simulator:
                 steps += int(arr.cnt[CNT_STEPS])
                 block_steps += int(arr.cnt[CNT_BLOCK_STEPS])
                 arr.cnt[CNT_STEPS] = arr.cnt[CNT_BLOCK_STEPS] = 0
-                if stop is not None:  # the simulator is left after the last complete event
-                    raise stop
                 if status == K.STATUS_SLIPS_FULL:
                     arr.take_slips(self._max_slip_rows)
                 elif status != K.STATUS_OK:

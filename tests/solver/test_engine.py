@@ -268,7 +268,7 @@ def test_collector_paused_during_kernel_calls_only():
     it as the caller had it."""
     import gc
 
-    from faultnet.solver.kernel_calls import collector_paused
+    from faultnet.solver.arrays import collector_paused
 
     assert gc.isenabled()
     with collector_paused():
