@@ -188,15 +188,19 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     if keep:
         stamp = new_id(work.cnt)  # the tag of this step's evaluations of stuck neighbours
     # a viscous join's rate reads its slipping neighbours' end accelerations: with viscous
-    # coupling the scan waits until this pass has written all of them
+    # coupling the scan waits until this pass has written all of them, and runs over the
+    # active list a second time (one call site of the inlined scan either way)
     late = visc and scan
-    for q in range(np.uint64(nact)):
+    n = np.uint64(nact)
+    for r in range(n + n if late else n):
+        q = r if r < n else r - n
         i = np.uint64(IW[ACT, q])
-        W[i, P] = W[i, DN]
-        if visc:
-            W[i, Q] = W[i, VN]
-        W[i, AN] = accel_hot(i, P2, W[i, VN], W, graph)
-        if scan and not late:
+        if r < n:
+            W[i, P] = W[i, DN]
+            if visc:
+                W[i, Q] = W[i, VN]
+            W[i, AN] = accel_hot(i, P2, W[i, VN], W, graph)
+        if scan and (r >= n) == late:
             # P2 holds every active block's end position (P is being updated)
             sq, si = np.int64(q), np.int64(i)  # signed again: the scan's one signature
             best, who, kind, status = block_crossings(
@@ -204,10 +208,4 @@ def dopri_step(h, nact, scan, vmax, graph, work):
             )
             if status != STATUS_OK:
                 return best, who, kind, status
-    for q in range(nact if late else 0):
-        best, who, kind, status = block_crossings(
-            h, q, IW[ACT, q], P2, vmax, best, who, kind, keep, stamp, graph, work
-        )
-        if status != STATUS_OK:
-            return best, who, kind, status
     return best, who, kind, STATUS_OK
