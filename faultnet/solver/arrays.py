@@ -46,6 +46,7 @@ from faultnet.solver._kernels.layout import (
     SOLO_SIZE,
     TRACE_X,
 )
+from faultnet.solver.interrupts import stoppable
 from faultnet.solver.result import SimulationResult
 
 __all__ = [
@@ -332,7 +333,13 @@ class KernelArrays:
         self.profiles = np.zeros((profile_rows, n), dtype=np.float64)
 
     def call(self, n_req, ev0, cat_f, cat_i, done):
-        """One call of the entry kernel: up to ``n_req`` events into the catalog rows."""
+        """One call of the entry kernel: up to ``n_req`` events into the catalog rows.
+
+        SIGINT and SIGTERM stop it at the end of a step (:func:`~.interrupts.stoppable`,
+        status ``STATUS_INTERRUPTED``, the event under way undone).  :attr:`n_events` counts
+        the events run even where Python's signal handler raises as the kernel returns, so
+        that it stays true to the state.
+        """
         self.cnt[CNT_EVENTS] = 0
         records = Records(
             cat_f=cat_f,
@@ -345,18 +352,12 @@ class KernelArrays:
             profiles=self.profiles[done:] if self.profiles.shape[0] else self.profiles,
             out=self.out,
         )
-        with collector_paused():
-            return self.kernel(
-                n_req,
-                ev0,
-                self.kstate,
-                self.graph,
-                self.ctrl,
-                self.cls,
-                self.solo,
-                self.work,
-                records,
-            )
+        args = (n_req, ev0, self.kstate, self.graph, self.ctrl, self.cls, self.solo, self.work)
+        with collector_paused(), stoppable(self.ctrl):
+            try:
+                return self.kernel(*args, records)
+            finally:
+                self.n_events += int(self.cnt[CNT_EVENTS])
 
     def take_slips(self, limit):
         """Move the buffered slip rows to ``slip_parts`` (at most ``limit`` rows in all, then

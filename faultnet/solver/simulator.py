@@ -230,6 +230,14 @@ class Simulator:
         -------
         SimulationResult
             The chunk's events; ``result.state`` equals :attr:`state`.
+
+        Notes
+        -----
+        Ctrl-C (``KeyboardInterrupt``) stops the call within one integration step, also inside
+        a long event, which is undone (in the main thread; SIGTERM too where a handler for it
+        raises, as the command line's does): the simulator is left after its last complete event and
+        goes on with the events of an uninterrupted run.  The catalog of the interrupted call
+        is not returned.
         """
         n_events = check_int("n_events", n_events)
         n = self._model.n
@@ -251,7 +259,6 @@ class Simulator:
         cat_i = np.zeros((n_events, CAT_I_SIZE), dtype=np.int64)
         wall, steps, block_steps = self._loop(n_events, ev0, cat_f, cat_i, progress)
         arr.take_slips(self._max_slip_rows)
-        arr.n_events = ev0 + n_events
         md = run_metadata(self._model, self._options, self._dt, self._seed, self._solo_cache)
         md.update(
             first_event=ev0,
@@ -312,6 +319,8 @@ class Simulator:
                 arr.cnt[CNT_STEPS] = arr.cnt[CNT_BLOCK_STEPS] = 0
                 if status == K.STATUS_SLIPS_FULL:
                     arr.take_slips(self._max_slip_rows)
+                elif status == K.STATUS_INTERRUPTED:
+                    pass  # a signal handler that did not raise: the undone event runs again
                 elif status != K.STATUS_OK:
                     raise_status(K, status, arr, self._model, ev0 + done, self._dt)
                 bar.update(got)

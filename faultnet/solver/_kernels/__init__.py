@@ -26,6 +26,7 @@ _NAMES = {
     "OFC_STATUS_OK": "ofc",
     "OFC_STATUS_TOO_MANY_TOPPLINGS": "ofc",
     "STATUS_EVENT_TOO_LONG": "carlson_langer.crossing",
+    "STATUS_INTERRUPTED": "carlson_langer.crossing",
     "STATUS_NONFINITE": "carlson_langer.crossing",
     "STATUS_OK": "carlson_langer.crossing",
     "STATUS_RUNAWAY": "carlson_langer.crossing",

@@ -45,6 +45,7 @@ __all__ = [
     "CTRL_REBUILD",
     "CTRL_SIZE",
     "CTRL_SOLO_CACHE",
+    "CTRL_STOP",
     "OFC_CAT_BLOCKS",
     "OFC_CAT_FAULTS",
     "OFC_CAT_F_SIZE",
@@ -90,7 +91,9 @@ CTRL_SOLO_CACHE = 3  #: 1.0: reuse cached solo slips; 0.0: integrate every event
 #: 1.0: recompute every key and the tree from ``z`` before the next event (set where the
 #: arrays are built, cleared by the kernel)
 CTRL_REBUILD = 4
-CTRL_SIZE = 5
+#: 1.0: stop at the end of the step; the event under way is undone (set from another thread)
+CTRL_STOP = 5
+CTRL_SIZE = 6
 
 SCAL_OFFSET = 0  #: integer-valued frame offset
 SCAL_W = 1  #: plate position minus the offset

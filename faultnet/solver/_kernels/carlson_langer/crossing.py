@@ -43,6 +43,7 @@ from faultnet.solver._kernels.jit import inline_kernel, kernel
 __all__ = [
     "JOIN",
     "STATUS_EVENT_TOO_LONG",
+    "STATUS_INTERRUPTED",
     "STATUS_NONFINITE",
     "STATUS_OK",
     "STATUS_RUNAWAY",
@@ -58,6 +59,7 @@ STATUS_SLIPS_FULL = 1
 STATUS_NONFINITE = -1
 STATUS_RUNAWAY = -2
 STATUS_EVENT_TOO_LONG = -3
+STATUS_INTERRUPTED = -4  #: ``ctrl[CTRL_STOP]`` was set: the event under way was undone
 
 STICK = 1
 JOIN = 2

@@ -26,6 +26,7 @@ import math
 
 from faultnet.solver._kernels.carlson_langer.crossing import (
     STATUS_EVENT_TOO_LONG,
+    STATUS_INTERRUPTED,
     STATUS_NONFINITE,
     STATUS_OK,
     STATUS_RUNAWAY,
@@ -45,11 +46,15 @@ from faultnet.solver._kernels.carlson_langer.work import (
     FLAG,
     FSEEN,
     P2,
+    Q2,
     STUCK,
     TOUCH,
     UNTOUCHED,
+    VN,
     D,
     P,
+    Q,
+    V,
     plate_row,
 )
 from faultnet.solver._kernels.jit import entry, inline_kernel, kernel
@@ -64,6 +69,7 @@ from faultnet.solver._kernels.layout import (
     CNT_EVENTS,
     CNT_SLIP_ROWS,
     CNT_STEPS,
+    CNT_TRACE_ROWS,
     CTRL_REBUILD,
     CTRL_SOLO_CACHE,
     OUT_BLOCKS,
@@ -145,7 +151,7 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
     ``records.out`` receives the event's catalog row (``layout.OUT_*``).  Returns a status
     code.  A free single-block slip is taken from its class's cached solo slip; a class's
     first one is integrated first, by the same call of ``integrate`` as the events, so that
-    Numba inlines (and compiles) the integration once.
+    Numba inlines (and compiles) the integration once.  An interrupted one is undone.
     """
     scal, keys, tree = state.scal, state.keys, state.tree
     out = records.out
@@ -161,6 +167,7 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
     # the threshold during it
     solo_case = at_threshold and ctrl[CTRL_SOLO_CACHE] > 0.0 and records.trace_nodes.shape[0] == 0
     c = cls[hyp]
+    rows0 = work.cnt[CNT_TRACE_ROWS]
     computing = solo_case and not (solo[c, SOLO_SLIP] == solo[c, SOLO_SLIP])
     # at most two passes: the class's solo slip integrated (NaN in the cache), then the event
     while True:
@@ -186,6 +193,10 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
         status, t, nsteps, ntouch = integrate(
             ev, nact, ntouch, run_w, state, ctrl, graph, work, records
         )
+        if status == STATUS_INTERRUPTED:
+            if computing:
+                solo_end(hyp, saved, work)
+            _undo_event(ntouch, rows0, state, graph, work)
         if status != STATUS_OK:
             return status
         if not computing:
@@ -213,10 +224,25 @@ def _plate_moved(w, state, work):
     The next loading starts there; the plate row of ``W`` is cleared for the next event.
     """
     W = work.W
-    pr = plate_row(W)
-    state.scal[SCAL_W] = w + W[pr, D]
-    for c in range(W.shape[1]):
-        W[pr, c] = 0.0
+    state.scal[SCAL_W] = w + W[plate_row(W), D]
+    W[plate_row(W), :] = 0.0
+
+
+@kernel
+def _undo_event(ntouch, rows0, state, graph, work):
+    """Undo an interrupted event: touched blocks at rest where they started, their keys from
+    ``z`` (a moving plate changes keys), the plate row cleared, trace rows since ``rows0``
+    dropped.  The next call runs the event again."""
+    W, IW, keys = work.W, work.IW, state.keys
+    for q in range(ntouch):
+        j = IW[TOUCH, q]
+        for c in (D, P, P2, V, VN, Q, Q2):
+            W[j, c] = 0.0
+        IW[FLAG, j] = UNTOUCHED
+        keys[j] = block_key(j, state.z, state.scal[SCAL_OFFSET], graph)
+        tree_update(j, keys, state.tree)
+    W[plate_row(W), :] = 0.0
+    work.cnt[CNT_TRACE_ROWS] = rows0
 
 
 @inline_kernel

@@ -21,7 +21,11 @@ step context and counters) and ``records`` (only the trajectory recording, ``tra
 ``trace_buf``, is used here).
 """
 
-from faultnet.solver._kernels.carlson_langer.crossing import STATUS_EVENT_TOO_LONG, STATUS_OK
+from faultnet.solver._kernels.carlson_langer.crossing import (
+    STATUS_EVENT_TOO_LONG,
+    STATUS_INTERRUPTED,
+    STATUS_OK,
+)
 from faultnet.solver._kernels.carlson_langer.dopri import dopri_step
 from faultnet.solver._kernels.carlson_langer.interp import interpolated_crossings
 from faultnet.solver._kernels.carlson_langer.plate import (
@@ -44,6 +48,7 @@ from faultnet.solver._kernels.layout import (
     CTRL_DT,
     CTRL_MAX_DURATION,
     CTRL_MAX_VELOCITY,
+    CTRL_STOP,
     SCAL_OFFSET,
     TRACE_EVENT,
     TRACE_TIME,
@@ -131,6 +136,8 @@ def integrate_exact(ev, nact, ntouch, w, state, ctrl, graph, work, records):
             record_trace(ev, t, state, work, records)
         if t > ctrl[CTRL_MAX_DURATION] or nsteps > max_steps:
             return STATUS_EVENT_TOO_LONG, t, nsteps, ntouch
+        if ctrl[CTRL_STOP] != 0.0:
+            return STATUS_INTERRUPTED, t, nsteps, ntouch
     return STATUS_OK, t, nsteps, ntouch
 
 
@@ -175,4 +182,6 @@ def integrate_interpolated(ev, nact, ntouch, w, state, ctrl, graph, work, record
             record_trace(ev, t, state, work, records)
         if t > ctrl[CTRL_MAX_DURATION] or nsteps > max_steps:
             return STATUS_EVENT_TOO_LONG, t, nsteps, ntouch
+        if ctrl[CTRL_STOP] != 0.0:
+            return STATUS_INTERRUPTED, t, nsteps, ntouch
     return STATUS_OK, t, nsteps, ntouch
