@@ -12,6 +12,7 @@ compiled code.  Kernels inlined into another (``inline="always"``) count as thei
     python benchmarks/perf_kernels.py W4 --rtol 2e-5 --events 300000
     python benchmarks/perf_kernels.py L1024 --events 60000        # a tiled 1024^2 lattice
     python benchmarks/perf_kernels.py W1 --rtol 2e-5 --crossings interpolated
+    python benchmarks/perf_kernels.py W1 --eta 0.1 --events 100000  # viscous coupling
 
 Needs ``perf`` and ``nm`` (binutils) on the PATH and permission to sample (``perf_event_paranoid``
 of 2 or less).  Run by hand; never a test.
@@ -99,7 +100,7 @@ def write_perf_map():
     return len(rows)
 
 
-def _child(wid, rtol, events, crossings):
+def _child(wid, rtol, events, crossings, nu, eta):
     here = os.path.dirname(os.path.abspath(__file__))
     sys.path[:0] = [here, os.path.dirname(here)]  # run.py, and this checkout's faultnet
     from run import SIGMA, WORKLOADS, K, _tiled_state, _warm_state, build_graph
@@ -110,6 +111,7 @@ def _child(wid, rtol, events, crossings):
     model = faultnet.CarlsonLanger(build_graph(wid), k=K, sigma=SIGMA, alpha=alpha)
     n = int(wid[1:]) if wid.startswith("L") else 0
     start = _tiled_state(128, n, 2.0)[0] if n >= 256 else _warm_state(model, 2.0)[0]
+    model = model.with_params(nu=nu, eta=eta)  # from the plain model's steady state
     opts = faultnet.RunOptions(rtol=rtol, crossings=crossings)
     faultnet.simulate(model, 100, x0=start, progress=False, options=opts)  # compile
     print(f"{write_perf_map()} kernel symbols", file=sys.stderr)
@@ -124,10 +126,12 @@ def main(argv=None):
     ap.add_argument("--rtol", type=float, default=1e-6)
     ap.add_argument("--events", type=int, default=200_000)
     ap.add_argument("--crossings", choices=["exact", "interpolated"], help="default: rtol's choice")
+    ap.add_argument("--nu", type=float, default=0.0, help="the plate's velocity during events")
+    ap.add_argument("--eta", type=float, default=0.0, help="viscous coupling of every spring")
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        _child(args.workload, args.rtol, args.events, args.crossings)
+        _child(args.workload, args.rtol, args.events, args.crossings, args.nu, args.eta)
         return
     for tool in ("perf", "nm"):
         if shutil.which(tool) is None:
@@ -136,7 +140,8 @@ def main(argv=None):
         env = dict(os.environ, NUMBA_CACHE_DIR=os.path.join(tmp, "numba"))
         data = os.path.join(tmp, "perf.data")
         cmd = [sys.executable, os.path.abspath(__file__), args.workload, "--child",
-               "--rtol", str(args.rtol), "--events", str(args.events)]  # fmt: skip
+               "--rtol", str(args.rtol), "--events", str(args.events),
+               "--nu", str(args.nu), "--eta", str(args.eta)]  # fmt: skip
         if args.crossings:
             cmd += ["--crossings", args.crossings]
         subprocess.run(["perf", "record", "-q", "-F", "999", "-o", data, "--", *cmd], env=env,
