@@ -72,3 +72,58 @@ def test_traced_runs_integrate_every_event():
     # every event of block 0 or 1 has its steps in the trace
     hit = res.events[res.events.hypocenter.isin([0, 1])]
     assert set(hit.event) <= set(res.traces.event)
+
+
+def viscous_lattice(seed=4):
+    rng = np.random.default_rng(seed)
+    g = faultnet.graphs.square_lattice(12, 12)
+    for a, b in g.edges:
+        g.edges[a, b]["eta"] = float(rng.uniform(0.05, 0.3))
+    return faultnet.CarlsonLanger(g, k=16, sigma=0.01, alpha=1.0)
+
+
+@pytest.mark.parametrize(
+    "model",
+    [
+        faultnet.CarlsonLanger(faultnet.graphs.ring(200), k=16, sigma=0.01, alpha=1.0, eta=0.1),
+        viscous_lattice(),
+    ],
+    ids=["ring", "lattice-scattered-eta"],
+)
+def test_viscous_models_take_free_single_block_slips_from_the_cache(model):
+    """A dashpot pulls a neighbour by eta v during the slip: the cache's check adds eta times
+    the bound on v, and the events are those of full integration."""
+    warm = faultnet.simulate(model, 2000, rng=5, progress=False)
+    slow = run(model, 300, warm, False)
+    fast = run(model, 300, warm, True)
+    assert slow.metadata["solo_events"] == 0
+    assert fast.metadata["solo_events"] > 50, fast.metadata["solo_events"]
+    a, b = slow.events, fast.events
+    np.testing.assert_array_equal(a.hypocenter, b.hypocenter)
+    np.testing.assert_array_equal(a.n_blocks, b.n_blocks)
+    np.testing.assert_allclose(b.S, a.S, rtol=1e-9)
+    np.testing.assert_allclose(b.duration, a.duration, rtol=1e-9)
+    assert fast.metadata["block_steps"] < slow.metadata["block_steps"]
+
+
+@pytest.mark.parametrize("alpha", [0.0, 0.5, 1.0, 3.0])
+@pytest.mark.parametrize("sigma", [0.01, 0.2])
+def test_the_solo_speed_bound_holds(alpha, sigma):
+    """A block slipping alone (traced, so integrated) never outruns the bound the cache's
+    check uses.  The bound is close where the friction weakens slowly (the fastest velocity is
+    88% of it at alpha = 1, sigma = 0.01) and loose where it weakens fast (27% at alpha = 3):
+    a looser bound sends more slips to full integration, never a wrong one to the cache."""
+    from faultnet.solver.arrays import solo_speed_bound
+
+    model = faultnet.CarlsonLanger(faultnet.graphs.ring(30), k=16, sigma=sigma, alpha=alpha)
+    sim = faultnet.Simulator(model, rng=2, trace_nodes=list(model.nodes))
+    res = sim.advance(300, progress=False)
+    traces = res.traces
+    bound = solo_speed_bound(model.stiffness[:1], np.array([sigma]), np.array([alpha]))[0]
+    fastest = []
+    for ev in res.events[res.events.n_blocks == 1].itertuples():
+        v = traces[(traces.event == ev.event) & (traces.node == ev.hypocenter)].v
+        fastest.append(v.max())
+    assert len(fastest) > 20
+    assert max(fastest) <= bound
+    assert max(fastest) > (0.75 if alpha <= 1.0 else 0.2) * bound

@@ -78,6 +78,7 @@ __all__ = [
     "SOLO_DURATION",
     "SOLO_SIZE",
     "SOLO_SLIP",
+    "SOLO_SPEED",
     "SOLO_STEPS",
     "TRACE_EVENT",
     "TRACE_TIME",
@@ -124,7 +125,9 @@ OUT_SIZE = 7
 SOLO_SLIP = 0  #: a parameter class's solo slip (NaN until computed)
 SOLO_DURATION = 1  #: its duration
 SOLO_STEPS = 2  #: its integration steps
-SOLO_SIZE = 3
+#: a bound on its fastest velocity (viscous models: a dashpot pulls a neighbour by eta v)
+SOLO_SPEED = 3
+SOLO_SIZE = 4
 
 CAT_T = 0  #: ``cat_f`` column: plate time of the event's start
 CAT_DURATION = 1  #: ``cat_f`` column: the event's duration

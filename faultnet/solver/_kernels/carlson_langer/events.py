@@ -83,6 +83,7 @@ from faultnet.solver._kernels.layout import (
     SCAL_W,
     SOLO_DURATION,
     SOLO_SLIP,
+    SOLO_SPEED,
     SOLO_STEPS,
 )
 
@@ -175,7 +176,7 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
             saved = solo_start(hyp, graph, work)
             nact = ntouch = hyp - hyp + 1  # int64, not a literal
             run_w = 0.0
-        elif solo_case and solo_free(hyp, solo[c, SOLO_SLIP], w, keys, graph):
+        elif solo_case and solo_free(hyp, solo[c, SOLO_SLIP], solo[c, SOLO_SPEED], w, keys, graph):
             solo_apply(hyp, solo[c, SOLO_SLIP], ev, state, graph, work.cnt, records)
             out[OUT_DURATION] = solo[c, SOLO_DURATION]
             out[OUT_SLIP] = solo[c, SOLO_SLIP]

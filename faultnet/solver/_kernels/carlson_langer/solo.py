@@ -13,6 +13,7 @@ event's number, ``w`` the plate position, ``keys`` the failure keys, ``saved`` t
 ``graph``, ``work`` and ``records`` of :mod:`faultnet.solver._kernels.bundles`.
 """
 
+from faultnet.solver._kernels.bundles import kelvin
 from faultnet.solver._kernels.carlson_langer.physics import accel, block_key, load
 from faultnet.solver._kernels.carlson_langer.tree import tree_update
 from faultnet.solver._kernels.carlson_langer.work import (
@@ -103,15 +104,19 @@ def solo_end(i, saved, work):
 
 
 @kernel
-def solo_free(hyp, s1, w, keys, graph):
+def solo_free(hyp, s1, speed, w, keys, graph):
     """True when slipping s1 alone leaves every neighbour of hyp below threshold.
 
-    The slip is monotone, so a neighbour's force is largest at the end: its load
-    (:func:`~.physics.load`) plus ``k_ij s1``.
+    The slip is monotone, so a neighbour's spring force is largest at the end: its load
+    (:func:`~.physics.load`) plus ``k_ij s1``.  A dashpot adds at most ``eta_ij speed``, the
+    bound on the slip's velocity (``layout.SOLO_SPEED``).
     """
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     for p in range(indptr[hyp], indptr[hyp + 1]):
-        if load(indices[p], w, keys) + kval[p] * s1 >= 1.0 - SOLO_MARGIN:
+        f = load(indices[p], w, keys) + kval[p] * s1
+        if kelvin(graph):
+            f += graph.eta[p] * speed
+        if f >= 1.0 - SOLO_MARGIN:
             return False
     return True
 
