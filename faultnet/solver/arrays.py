@@ -43,12 +43,11 @@ from faultnet.solver._kernels.layout import (
     SCAL_OFFSET,
     SCAL_SIZE,
     SCAL_W,
-    SOLO_SIZE,
-    SOLO_SPEED,
     TRACE_X,
 )
 from faultnet.solver.interrupts import stoppable
 from faultnet.solver.result import SimulationResult
+from faultnet.solver.solo_cache import solo_table
 
 __all__ = [
     "MAX_OFFSET",
@@ -58,7 +57,6 @@ __all__ = [
     "catalog_state",
     "initial_state",
     "position_limit",
-    "solo_speed_bound",
     "trace_indices",
 ]
 
@@ -156,31 +154,6 @@ def collector_paused():
         yield
     finally:
         gc.enable()
-
-
-def solo_speed_bound(stiffness, sigma, alpha):
-    """A bound on the fastest velocity of a block slipping alone from rest at the threshold.
-
-    Its neighbours held, the block obeys ``v' = 1 - K x - phi(v) - eta v`` (``K`` its
-    stiffness, ``eta`` its dashpots' total, ``phi(v) = (1 - sigma) / (1 + c v)`` with
-    ``c = 2 alpha / (1 - sigma)``).  With ``eta v >= 0`` and ``phi`` falling with v, a path
-    whose velocity stays at most ``V`` has ``v v' <= (r - K x) x'``, ``r = 1 - phi(V)``, so
-    ``v <= r / sqrt(K)``: the fastest velocity ``V`` meets ``V sqrt(K) <= 1 - phi(V)``.  The
-    right side is concave in V and the left linear, so V lies below their one positive
-    crossing, the root of ``s c V^2 + (s - c) V - sigma = 0`` (``s = sqrt(K)``), returned
-    with 1% to spare for the integration's error.  A cached solo slip is then free where
-    every neighbour stays below 1 with ``k s1 + eta V`` added (:func:`~faultnet.solver.
-    _kernels.carlson_langer.solo.solo_free`).
-
-    >>> v = solo_speed_bound(np.array([33.0]), np.array([0.01]), np.array([0.0]))
-    >>> bool(np.isclose(v[0], 1.01 * 0.01 / np.sqrt(33.0)))
-    True
-    """
-    s = np.sqrt(stiffness)
-    c = 2.0 * alpha / (1.0 - sigma)
-    b = s - c
-    # the root written so that c -> 0 gives sigma / s without cancellation
-    return 1.01 * 2.0 * sigma / (b + np.sqrt(b * b + 4.0 * s * c * sigma))
 
 
 def _kernels():
@@ -332,11 +305,7 @@ class KernelArrays:
         self.fault_number = model.fault_number
         # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
         self.cls = model.block_classes
-        self.solo = np.full((int(self.cls.max()) + 1, SOLO_SIZE), np.nan)
-        first = np.unique(self.cls, return_index=True)[1]  # a block of each class
-        self.solo[:, SOLO_SPEED] = solo_speed_bound(
-            model.stiffness[first], model.sigma_values[first], model.alpha_values[first]
-        )
+        self.solo = solo_table(model, self.cls)
         self.ctrl[CTRL_REBUILD] = 1.0  # the entry builds the keys and tree before any event
 
     def state(self) -> State:

@@ -113,7 +113,7 @@ def test_the_solo_speed_bound_holds(alpha, sigma):
     check uses.  The bound is close where the friction weakens slowly (the fastest velocity is
     88% of it at alpha = 1, sigma = 0.01) and loose where it weakens fast (27% at alpha = 3):
     a looser bound sends more slips to full integration, never a wrong one to the cache."""
-    from faultnet.solver.arrays import solo_speed_bound
+    from faultnet.solver.solo_cache import solo_speed_bound
 
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(30), k=16, sigma=sigma, alpha=alpha)
     sim = faultnet.Simulator(model, rng=2, trace_nodes=list(model.nodes))
