@@ -193,7 +193,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     late = visc and scan
     n = np.uint64(nact)
     for r in range(n + n if late else n):
-        q = r if r < n else r - n
+        q = np.uint64(r) if r < n else np.uint64(r) - n  # (uint64 in Python too)
         i = np.uint64(IW[ACT, q])
         if r < n:
             W[i, P] = W[i, DN]
