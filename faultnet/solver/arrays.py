@@ -303,7 +303,7 @@ class KernelArrays:
         self.kernel = getattr(_kernels(), self.options.entry(model))
         # a network of faults sums each event's slips per fault from the per-block rows
         self.fault_number = model.fault_number
-        # blocks with equal (stiffness, sigma, alpha) share one cached solo slip
+        # blocks of one class (stiffness, sigma, alpha and the dashpots' total) share a solo slip
         self.cls = model.block_classes
         self.solo = solo_table(model, self.cls)
         self.ctrl[CTRL_REBUILD] = 1.0  # the entry builds the keys and tree before any event
