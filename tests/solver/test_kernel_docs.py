@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 FOLDER = Path(__file__).resolve().parents[2] / "faultnet" / "solver" / "_kernels" / "carlson_langer"
-DECORATORS = {"kernel", "inline_kernel", "forced_kernel", "entry"}
+DECORATORS = {"kernel", "inline_kernel", "forced_kernel", "kelvin_kernel", "entry"}
 #: the engine's kernels stay small enough to read
 MAX_LINES = 3200
 

@@ -93,10 +93,12 @@ KelvinGraph = namedtuple("KelvinGraph", Graph._fields)
 def kelvin(graph):
     """Whether ``graph`` is a :data:`KelvinGraph`; a compile-time constant in the kernels.
 
-    A kernel guards the plate's and the viscous terms with it.  Compiled for a plain
-    :data:`Graph` the guarded code is gone, so that a plain model runs the kernels it ran
-    before these terms existed: with the terms behind run-time branches (``graph.nu > 0``,
-    ``graph.viscous``) the plain ring ran 10-15% fewer events/s.
+    A kernel guards the plate's and the viscous terms with it, so that a plain model runs
+    the kernels it ran before these terms existed: with the terms behind run-time branches
+    (``graph.nu > 0``, ``graph.viscous``) the plain ring ran 10-15% fewer events/s.  The
+    guarded code is still typed and lowered for a plain :data:`Graph` (LLVM drops it), so
+    longer terms are kernels of their own that a plain model never compiles
+    (:func:`~faultnet.solver._kernels.jit.kelvin_kernel`).
     """
     return isinstance(graph, KelvinGraph)
 

@@ -30,10 +30,12 @@ another (the work columns ``work.D``, ``P``, ..., the stage columns ``tableau.KV
 """
 
 import numba as nb
+from numba.extending import overload
 
+from faultnet.solver._kernels.bundles import KelvinGraph, kelvin
 from faultnet.solver._kernels.cache import disk_cache_available, register, verified
 
-__all__ = ["CACHE", "INNER", "entry", "forced_kernel", "inline_kernel", "kernel"]
+__all__ = ["CACHE", "INNER", "entry", "forced_kernel", "inline_kernel", "kelvin_kernel", "kernel"]
 
 # one cache stamp for all kernels (faultnet.solver._kernels.cache), before any kernel is decorated
 register()
@@ -67,3 +69,30 @@ forced_kernel = _cached(**dict(INNER, forceinline=True))
 inline_kernel = _cached(inline="always", **INNER)
 #: a kernel called from Python
 entry = _cached(nogil=True, _nrt=False)
+
+
+def kelvin_kernel(func):
+    """A kernel of the plate's and the viscous terms, ``func(first, ..., graph)``.
+
+    Compiled and run (LLVM inlines it, as a :data:`forced_kernel`) where its last argument is
+    a :data:`~faultnet.solver._kernels.bundles.KelvinGraph`; for a plain ``Graph`` a call is
+    its first argument and types nothing else.  ``if kelvin(graph): f = terms(f, ...)`` would
+    still type (and lower) ``terms`` for a plain model, which LLVM then drops: an ``overload``
+    chooses by the bundle's type instead, so that a plain model's kernels are compiled
+    without that code at all.  The first argument is what a plain model takes: the force
+    before those terms, for instance.
+    """
+    compiled = forced_kernel(func)
+
+    def call(*args):
+        return func(*args) if kelvin(args[-1]) else args[0]
+
+    @overload(call, jit_options={"nogil": True, "_nrt": False})
+    def _typed(*args):
+        if getattr(args[-1], "instance_class", None) is KelvinGraph:
+            return lambda *args: compiled(*args)
+        return lambda *args: args[0]
+
+    call.__doc__, call.__name__, call.__wrapped__ = func.__doc__, func.__name__, func
+    call.kernel = compiled  # the compiled kernel, for tests (its signatures)
+    return call

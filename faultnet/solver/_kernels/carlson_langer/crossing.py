@@ -38,7 +38,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     D,
     V,
 )
-from faultnet.solver._kernels.jit import inline_kernel, kernel
+from faultnet.solver._kernels.jit import inline_kernel, kelvin_kernel, kernel
 
 __all__ = [
     "JOIN",
@@ -81,6 +81,20 @@ def stick_theta(h, q, i, W, K):
     return 2.0
 
 
+@kelvin_kernel
+def _dashpot_rates(g, r, q, b, K, W, graph):
+    """The sums ``g`` of :func:`join_theta` plus the dashpot of CSR entry r (slipping block b,
+    active position q): its stage accelerations are its velocity's stage derivatives."""
+    if not graph.viscous:
+        return g
+    e = graph.eta[r]
+    g1, g3, g4, g5, g6, g7 = g
+    return (
+        g1 + e * K[q, KA], g3 + e * K[q, KA + 2], g4 + e * K[q, KA + 3],
+        g5 + e * K[q, KA + 4], g6 + e * K[q, KA + 5], g7 + e * W[b, AN],
+    )  # fmt: skip
+
+
 @kernel
 def join_theta(h, j, f0, f1, graph, work):
     """Where inside the step the force on stuck block j reaches 1 (``f0 < 1 <= f1``).
@@ -105,14 +119,7 @@ def join_theta(h, j, f0, f1, graph, work):
             g5 += c * K[q, KV + 4]
             g6 += c * K[q, KV + 5]
             g7 += c * W[b, VN]
-            if graph.viscous:
-                e = graph.eta[r]
-                g1 += e * K[q, KA]
-                g3 += e * K[q, KA + 2]
-                g4 += e * K[q, KA + 3]
-                g5 += e * K[q, KA + 4]
-                g6 += e * K[q, KA + 5]
-                g7 += e * W[b, AN]
+            g1, g3, g4, g5, g6, g7 = _dashpot_rates((g1, g3, g4, g5, g6, g7), r, q, b, K, W, graph)
     c0, c1, c2, c3, c4 = dense_coeffs(
         f0 - 1.0, f1 - 1.0, h * g1, h * g3, h * g4, h * g5, h * g6, h * g7
     )

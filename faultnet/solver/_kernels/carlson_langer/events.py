@@ -57,7 +57,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     V,
     plate_row,
 )
-from faultnet.solver._kernels.jit import entry, inline_kernel, kernel
+from faultnet.solver._kernels.jit import entry, inline_kernel, kelvin_kernel, kernel
 from faultnet.solver._kernels.layout import (
     CAT_BLOCKS,
     CAT_DURATION,
@@ -206,8 +206,7 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
         solo[c, SOLO_DURATION] = t
         solo[c, SOLO_STEPS] = nsteps
         computing = False
-    if graph.nu > 0.0:
-        _plate_moved(w, state, work)
+    _plate_moved(w, state, work, graph)
     total, nblk, nflt = _finish_event(ntouch, ev, state, graph, work, records)
     out[OUT_DURATION] = t
     out[OUT_SLIP] = total
@@ -218,15 +217,14 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
     return STATUS_OK
 
 
-@kernel
-def _plate_moved(w, state, work):
-    """The plate's position at the end of an event during which it moved (:mod:`.plate`).
-
-    The next loading starts there; the plate row of ``W`` is cleared for the next event.
-    """
-    W = work.W
-    state.scal[SCAL_W] = w + W[plate_row(W), D]
-    W[plate_row(W), :] = 0.0
+@kelvin_kernel
+def _plate_moved(w, state, work, graph):
+    """Where the plate moved during the event (:mod:`.plate`), the next loading starts from
+    its position at the end; the plate row of ``W`` is cleared for the next event."""
+    if graph.nu > 0.0:
+        W = work.W
+        state.scal[SCAL_W] = w + W[plate_row(W), D]
+        W[plate_row(W), :] = 0.0
 
 
 @kernel
