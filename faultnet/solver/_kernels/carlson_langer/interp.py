@@ -102,7 +102,7 @@ from faultnet.solver._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 __all__ = ["interpolated_crossings"]
 
 
-@kernel
+@inline_kernel
 def _stop(b, th, h, graph, work):
     """Block b stops at fraction th: its stop position, neighbours corrected.
 
@@ -186,7 +186,7 @@ def _push(j, s, h, graph, work):
     return dF, lo
 
 
-@kernel
+@inline_kernel
 def _chained(j, th, h, graph, work):
     """The fraction at which stuck block j joins, given its neighbours' crossings before th.
 
@@ -231,7 +231,7 @@ def _chained(j, th, h, graph, work):
     return b
 
 
-@kernel
+@inline_kernel
 def _locate(h, ncand, graph, work):
     """Each listed crossing's fraction of the step, in ``W[b, VS]``, before any is applied.
 
@@ -275,7 +275,7 @@ def _key(e, W):
     return 4.0
 
 
-@kernel
+@inline_kernel
 def _order(ncand, work):
     """Sort ``IW[CAND, :ncand]`` by :func:`_key` in place (Shell sort, gaps 1, 4, 13, ...).
 

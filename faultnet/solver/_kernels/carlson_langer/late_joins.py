@@ -170,7 +170,7 @@ def _join_at_threshold(j, h, b, nact, ntouch, w, keys, graph, work):
     return nact, ntouch
 
 
-@kernel
+@inline_kernel
 def rejoin(b, h, nact, ntouch, w, keys, graph, work):
     """Block b stopped in the step; if its force at the step's end is >= 1 it slips again.
 
@@ -198,7 +198,7 @@ def _offset(n, s, h, K, W, IW):
     return 0.0
 
 
-@kernel
+@inline_kernel
 def _late_theta(j, h, graph, work):
     """Fraction of the step at which stuck block j's force reached 1 on its neighbours' paths.
 

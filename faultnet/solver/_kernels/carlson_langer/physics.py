@@ -247,7 +247,7 @@ def friction_slope(i, v, graph):
     return graph.oms[i] * graph.cfr[i] / (den * den)
 
 
-@kernel
+@inline_kernel
 def jerk_snap(i, v, a, sv, sa, graph):
     """Jerk and snap (time derivatives of the acceleration) of slipping block ``i``.
 

@@ -65,7 +65,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     P,
     V,
 )
-from faultnet.solver._kernels.jit import kernel
+from faultnet.solver._kernels.jit import inline_kernel, kernel
 
 __all__ = [
     "BEFORE_COMMIT",
@@ -337,7 +337,7 @@ def stop_position(b, th, h, graph, work):
     return W[b, D] + x
 
 
-@kernel
+@inline_kernel
 def join_path(j, th, h, graph, work):
     """Path of stuck block j from its join at fraction th to the end of the step.
 

@@ -114,7 +114,7 @@ def _first_critical(y0, m0, y1, m1):
     return best
 
 
-@kernel
+@inline_kernel
 def hermite_fall(m0, y1, m1):
     """Root in (0, 1] of a velocity that starts at 0 rising (m0 > 0) and ends <= 0.
 
@@ -128,7 +128,7 @@ def hermite_fall(m0, y1, m1):
     return hermite_root(peak, 1.0, 0.0, m0, y1, m1)
 
 
-@kernel
+@inline_kernel
 def hermite_dip(y0, m0, y1, m1):
     """First root in (0, 1] of a Hermite cubic with y0 > 0, y1 > 0, or 2.0.
 

@@ -28,7 +28,7 @@ each listed crossing.
 
 import numpy as np
 
-from faultnet.solver._kernels.jit import kernel
+from faultnet.solver._kernels.jit import inline_kernel, kernel
 from faultnet.solver._kernels.layout import CNT_STAMPS
 
 __all__ = [
@@ -110,7 +110,7 @@ THETA_CACHE = 4096
 LOC_SIZE = LOC_THETA + THETA_CACHE
 
 
-@kernel
+@inline_kernel
 def new_id(cnt):
     """A fresh tag (``IW[MARK]``) from the counter ``cnt[CNT_STAMPS]``, never reset.
 
