@@ -19,11 +19,13 @@ waiting thread would ask to stop, cost 6-23% events/s: ``benchmarks/README.md``)
 costs two :func:`signal.set_wakeup_fd` calls.  The descriptor found at the start of a call (an
 asyncio event loop's, for instance) is set again at its end, and the watcher passes on to it
 every byte it reads meanwhile.  Outside the main thread, and where the descriptor cannot be
-set, a call runs as before: signals wait for it to return.
+set, a call runs as before: signals wait for it to return.  The socket pair is closed at exit,
+and a forked child closes its copies of its parent's pair at its first call.
 """
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import os
 import signal
@@ -40,8 +42,8 @@ STOPPING_SIGNALS = frozenset({signal.SIGINT, signal.SIGTERM})
 _lock = threading.Lock()
 #: the control arrays of the calls under way, by id
 _running = {}
-#: this process's watcher: its pid, the socket pair, the descriptor to pass bytes on to
-_watcher = {"pid": None, "read": None, "write": None, "previous": -1}
+#: this process's watcher: its pid, thread and socket pair, the descriptor to pass bytes on to
+_watcher = {"pid": None, "thread": None, "read": None, "write": None, "previous": -1}
 
 
 def _watch(read):
@@ -50,8 +52,9 @@ def _watch(read):
         try:
             data = read.recv(256)
         except OSError:
-            return
-        if not data:
+            data = b""
+        if not data:  # the write end closed (at exit)
+            read.close()
             return
         if any(b in STOPPING_SIGNALS for b in data):
             with _lock:
@@ -67,11 +70,24 @@ def _descriptor():
     """The write end of this process's socket pair, its watcher started on first use (again in
     a forked child, where the parent's thread does not run)."""
     if _watcher["pid"] != os.getpid():
+        if _watcher["pid"] is None:
+            atexit.register(_close)
+        for inherited in (_watcher["read"], _watcher["write"]):  # a forked child's copies
+            if inherited is not None:
+                inherited.close()
         read, write = socket.socketpair()
         write.setblocking(False)
-        threading.Thread(target=_watch, args=(read,), name="faultnet-signals", daemon=True).start()
-        _watcher.update(pid=os.getpid(), read=read, write=write, previous=-1)
+        thread = threading.Thread(target=_watch, args=(read,), name="faultnet-signals", daemon=True)
+        thread.start()
+        _watcher.update(pid=os.getpid(), thread=thread, read=read, write=write, previous=-1)
     return _watcher["write"].fileno()
+
+
+def _close():
+    """At exit: the write end closed, so that the watcher reads the end and closes its own."""
+    if _watcher["pid"] == os.getpid():
+        _watcher["write"].close()
+        _watcher["thread"].join(timeout=1.0)
 
 
 @contextlib.contextmanager

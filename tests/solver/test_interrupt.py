@@ -152,3 +152,37 @@ def test_sigterm_stops_the_command_inside_a_never_ending_event(tmp_path):
     assert time.perf_counter() - t0 < 300
     if os.environ.get("CI") is None:  # a warm kernel cache: within a few steps
         assert time.perf_counter() - t0 < 30
+
+
+_SOCKETS = """
+import os
+import numpy as np
+from faultnet.solver import interrupts
+from faultnet.solver._kernels.layout import CTRL_SIZE
+
+with interrupts.stoppable(np.ones(CTRL_SIZE)):
+    pass
+w = dict(interrupts._watcher)
+if os.fork() == 0:  # a child's first call closes its copies of the parent's pair
+    with interrupts.stoppable(np.ones(CTRL_SIZE)):
+        pass
+    os._exit(0 if w["read"].fileno() == w["write"].fileno() == -1 else 1)
+assert os.wait()[1] == 0, "the child kept its parent's sockets"
+interrupts._close()  # what runs at exit
+w["thread"].join(2.0)
+assert w["read"].fileno() == w["write"].fileno() == -1 and not w["thread"].is_alive()
+print("closed")
+"""
+
+
+@pytest.mark.skipif(not hasattr(os, "fork"), reason="needs fork")
+def test_the_watchers_sockets_are_closed_at_exit_and_in_a_forked_child():
+    out = subprocess.run(
+        [sys.executable, "-W", "error::ResourceWarning", "-c", _SOCKETS],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.strip() == "closed"
+    assert "ResourceWarning" not in out.stderr
