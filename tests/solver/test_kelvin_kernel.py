@@ -17,9 +17,20 @@ def _plate_pull(f, graph):
     return f + graph.nu
 
 
+@kelvin_kernel(plain=lambda h, graph, n: (h, -1))
+def _plate_step(h, graph, n):
+    """A stand-in for a term whose plain result is not its first argument (the graph not last)."""
+    return h * graph.nu, n
+
+
 @nb.njit
 def _force(f, graph):
     return _plate_pull(f, graph)
+
+
+@nb.njit
+def _step(h, graph, n):
+    return _plate_step(h, graph, n)
 
 
 def _triangle(nu=0.0, eta=None):
@@ -40,6 +51,17 @@ def test_a_plain_graph_gets_the_first_argument_untyped():
     signatures = _plate_pull.kernel.signatures
     assert signatures
     assert all(sig[-1].instance_class is KelvinGraph for sig in signatures)
+
+
+def test_a_plain_result_of_its_own_and_the_graph_anywhere():
+    plain, moving = _triangle(), _triangle(nu=0.5)
+    assert _step(2.0, plain, 7) == (2.0, -1)
+    assert _step(2.0, moving, 7) == (1.0, 7)
+    assert _plate_step(2.0, plain, 7) == (2.0, -1)  # in Python too
+    assert _plate_step(2.0, moving, 7) == (1.0, 7)
+    signatures = _plate_step.kernel.signatures
+    assert signatures
+    assert all(sig[1].instance_class is KelvinGraph for sig in signatures)
 
 
 def test_python_calls_take_the_same_branches():

@@ -23,7 +23,8 @@ def _kernels():
         module_doc = ast.get_docstring(tree) or ""
         for node in tree.body:
             if isinstance(node, ast.FunctionDef):
-                names = {d.id for d in node.decorator_list if isinstance(d, ast.Name)}
+                calls = [d.func for d in node.decorator_list if isinstance(d, ast.Call)]
+                names = {d.id for d in node.decorator_list + calls if isinstance(d, ast.Name)}
                 yield path.name, node, bool(names & DECORATORS), module_doc
 
 

@@ -21,7 +21,7 @@ on events/s (``benchmarks/README.md``):
   kernel) is a :data:`forced_kernel`: typed once, and marked for LLVM to inline at every site;
 - a helper with one call site is typed once either way, and inlined by Numba it needs no
   library of its own (each library costs its own LLVM module passes and machine code, and
-  is linked into its callers' again): a helper called once from a kernel is inlined (ten of
+  is linked into its callers' again): a helper called once from a kernel is inlined (eleven of
   them: 0.4 s less cold compile on the lattice, the same events/s), as is the event's
   integration (:mod:`.carlson_langer.slip`) into the event loop.  Chains of inlined helpers
   are avoided: the inliner reruns its passes at every level (inlining 26 single-caller
@@ -75,27 +75,35 @@ inline_kernel = _cached(inline="always", **INNER)
 entry = _cached(nogil=True, _nrt=False)
 
 
-def kelvin_kernel(func):
-    """A kernel of the plate's and the viscous terms, ``func(first, ..., graph)``.
+def _first(*args):
+    return args[0]
 
-    Compiled and run (LLVM inlines it, as a :data:`forced_kernel`) where its last argument is
-    a :data:`~faultnet.solver._kernels.bundles.KelvinGraph`; for a plain ``Graph`` a call is
-    its first argument and types nothing else.  ``if kelvin(graph): f = terms(f, ...)`` would
-    still type (and lower) ``terms`` for a plain model, which LLVM then drops: an ``overload``
+
+def kelvin_kernel(func=None, *, plain=_first):
+    """A kernel of the plate's and the viscous terms, ``func(first, ..., graph, ...)``.
+
+    Compiled and run (LLVM inlines it, as a :data:`forced_kernel`) where an argument is a
+    :data:`~faultnet.solver._kernels.bundles.KelvinGraph`; for a plain ``Graph`` a call is
+    ``plain(*args)``, by default its first argument (the force before those terms, for
+    instance), and types nothing else.  ``if kelvin(graph): f = terms(f, ...)`` would still
+    type (and lower) ``terms`` for a plain model, which LLVM then drops: an ``overload``
     chooses by the bundle's type instead, so that a plain model's kernels are compiled
-    without that code at all.  The first argument is what a plain model takes: the force
-    before those terms, for instance.
+    without that code at all.  ``@kelvin_kernel(plain=lambda ...: ...)`` gives what a plain
+    model gets where that is not the first argument.
     """
+    if func is None:
+        return lambda f: kelvin_kernel(f, plain=plain)
     compiled = forced_kernel(func)
+    plain_compiled = nb.njit(**INNER)(plain)
 
     def call(*args):
-        return func(*args) if kelvin(args[-1]) else args[0]
+        return func(*args) if any(kelvin(a) for a in args) else plain(*args)
 
     @overload(call, jit_options={"nogil": True, "_nrt": False})
     def _typed(*args):
-        if getattr(args[-1], "instance_class", None) is KelvinGraph:
+        if any(getattr(a, "instance_class", None) is KelvinGraph for a in args):
             return lambda *args: compiled(*args)
-        return lambda *args: args[0]
+        return lambda *args: plain_compiled(*args)
 
     call.__doc__, call.__name__, call.__wrapped__ = func.__doc__, func.__name__, func
     call.kernel = compiled  # the compiled kernel, for tests (its signatures)

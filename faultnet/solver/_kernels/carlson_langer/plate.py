@@ -17,7 +17,7 @@ The integration then shortens the step that would pass the smallest key and lets
 join at the step's end (:func:`next_plate_join`, :func:`plate_join`); a touched block whose
 key turns out stale there has it refreshed instead.  The event's end refreshes every touched
 key from the displacements (:mod:`.events`), and the next loading starts from the plate's
-position at the end of the event.
+position at the end of the event.  A plain model compiles none of this (``kelvin_kernel``).
 
 Arguments: ``h`` a step's length, ``j`` a block, ``w`` the plate position at the event's start,
 ``nact`` and ``ntouch`` the lengths of the active and touched lists, ``lo``, ``hi`` a range of
@@ -38,7 +38,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     D,
     plate_row,
 )
-from faultnet.solver._kernels.jit import kernel
+from faultnet.solver._kernels.jit import kelvin_kernel
 
 __all__ = ["PLATE_MARGIN", "next_plate_join", "plate_join", "refresh_stuck"]
 
@@ -47,7 +47,7 @@ __all__ = ["PLATE_MARGIN", "next_plate_join", "plate_join", "refresh_stuck"]
 PLATE_MARGIN = 1e-12
 
 
-@kernel
+@kelvin_kernel(plain=lambda h, w, state, graph, work: (h, -1))
 def next_plate_join(h, w, state, graph, work):
     """The step to take (at most ``h``) and the block the plate brings to 1 at its end.
 
@@ -67,7 +67,7 @@ def next_plate_join(h, w, state, graph, work):
     return h, j - j - 1
 
 
-@kernel
+@kelvin_kernel(plain=lambda j, nact, ntouch, w, state, graph, work: (nact, ntouch))
 def plate_join(j, nact, ntouch, w, state, graph, work):
     """Block ``j``, whose key the plate has reached, starts to slip (returns (nact, ntouch)).
 
@@ -84,7 +84,7 @@ def plate_join(j, nact, ntouch, w, state, graph, work):
     return activate(j, nact, ntouch, w, keys, graph, work)
 
 
-@kernel
+@kelvin_kernel
 def refresh_stuck(lo, hi, w, state, graph, work):
     """Refresh the keys of the blocks that just stuck, ``IW[ACT, lo:hi]``, and of their stuck
     neighbours, from their forces now."""
