@@ -38,7 +38,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     D,
     V,
 )
-from faultnet.solver._kernels.jit import inline_kernel, kelvin_kernel, kernel
+from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kelvin_kernel, kernel
 
 __all__ = [
     "JOIN",
@@ -126,7 +126,7 @@ def join_theta(h, j, f0, f1, graph, work):
     return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
 
 
-@inline_kernel
+@forced_kernel
 def _list(b, th, IW, loc):
     """Append block b's crossing (at fraction th, 2.0: not located) to ``IW[CAND]``.
 

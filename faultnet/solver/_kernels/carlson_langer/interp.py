@@ -96,7 +96,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     P,
     V,
 )
-from faultnet.solver._kernels.jit import inline_kernel, kernel
+from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
 from faultnet.solver._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 
 __all__ = ["interpolated_crossings"]
@@ -265,7 +265,7 @@ def _locate(h, ncand, graph, work):
             IW[FLAG, -2 - IW[CAND, c]] = STOPPING
 
 
-@inline_kernel
+@forced_kernel
 def _key(e, W):
     """Order of the applied crossings: joins by their fraction of the step, then stops."""
     if e >= 0:

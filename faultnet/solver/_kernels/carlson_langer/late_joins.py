@@ -18,6 +18,8 @@ work arrays and ``K`` their stage rows, ``graph`` and ``work`` the bundles
 the ``Graph`` and ``Work`` bundles (:mod:`~faultnet.solver._kernels.bundles`).
 """
 
+import numpy as np
+
 from faultnet.solver._kernels.carlson_langer.physics import (
     accel,
     force,
@@ -56,7 +58,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     P,
     V,
 )
-from faultnet.solver._kernels.jit import inline_kernel, kernel
+from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
 
 __all__ = ["late_joins", "refresh", "rejoin"]
 
@@ -71,7 +73,7 @@ def refresh(b, graph, work):
             W[n, A] = accel(n, P, V, W, graph)
 
 
-@inline_kernel
+@forced_kernel
 def _first_root(c0, c1, c2, lo, hi):
     """Smallest root of c0 + c1 t + c2 t^2 in (lo, hi], or -1.0."""
     best = -1.0
@@ -243,7 +245,7 @@ def _late_join(j, h, graph, work):
             stop_answer(j, graph.kval[p], W[b, SV], W[b, VS], h, c0, c1, c2, c3, c4, graph, work)
 
 
-@inline_kernel
+@forced_kernel
 def _check(j, joining, h, ncand, ntouch, w, keys, graph, work):
     """Stuck block j joins if its force at the step's end (``P2``) is >= 1.
 
@@ -296,6 +298,6 @@ def late_joins(h, ncand, ntouch, w, keys, graph, work):
                 for r in range(indptr[n], indptr[n + 1]):
                     if indices[r] != b:
                         ncand, ntouch = _check(
-                            indices[r], False, h, ncand, ntouch, w, keys, graph, work
+                            indices[r], np.bool_(False), h, ncand, ntouch, w, keys, graph, work
                         )
     return ncand, ntouch

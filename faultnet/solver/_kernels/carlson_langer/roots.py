@@ -9,7 +9,7 @@ arguments are the interpolant's end values ``y0``, ``y1`` and slopes times the s
 bracket ``[lo, hi]`` where one is searched; ``th`` is a fraction of the step.
 """
 
-from faultnet.solver._kernels.jit import inline_kernel, kernel
+from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
 
 __all__ = ["hermite", "hermite_dip", "hermite_fall", "hermite_root", "poly_root"]
 
@@ -91,7 +91,7 @@ def poly_root(lo, hi, c0, c1, c2, c3, c4):
     return th
 
 
-@inline_kernel
+@forced_kernel
 def _first_critical(y0, m0, y1, m1):
     """Smallest root in (0, 1) of the Hermite cubic's slope, or 2.0."""
     c2 = 6.0 * y0 + 3.0 * m0 - 6.0 * y1 + 3.0 * m1

@@ -31,7 +31,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     P,
     V,
 )
-from faultnet.solver._kernels.jit import inline_kernel, kernel
+from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
 from faultnet.solver._kernels.layout import (
     CNT_BLOCK_STEPS,
     CNT_INTERPOLATED_CROSSINGS,
@@ -83,7 +83,7 @@ def solo_start(i, graph, work):
     )
 
 
-@inline_kernel
+@forced_kernel
 def solo_end(i, saved, work):
     """The solo slip of block i; restores the counters and leaves the work arrays as found."""
     W, IW, cnt = work.W, work.IW, work.cnt
