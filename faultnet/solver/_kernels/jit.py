@@ -19,10 +19,11 @@ on events/s (``benchmarks/README.md``):
   callers;
 - the DP5 stages' acceleration (:func:`~.carlson_langer.physics.accel_hot`, six sites in one
   kernel) is a :data:`forced_kernel`: typed once, and marked for LLVM to inline at every site;
-  so are small helpers called from two or three sites (a root of a quadratic, the crossing
-  list's sort key, the late joins' check): inlined by Numba, each site held the helper's
-  statements again, and each of its ``return`` statements became a tuple and an assignment
-  in the caller (940 IR statements of the lattice run's 16,835, the same events/s);
+  so are small helpers called from two or three sites (the hot force, a root of a quadratic,
+  the crossing list's sort key, the late joins' check): inlined by Numba, each site held the
+  helper's statements again, and each of its ``return`` statements became a tuple and an
+  assignment in the caller (1,100 IR statements of the lattice run's 16,835, the same
+  events/s);
 - a helper with one call site is typed once either way, and inlined by Numba it needs no
   library of its own (each library costs its own LLVM module passes and machine code, and
   is linked into its callers' again): a helper called once from a kernel is inlined (eleven of

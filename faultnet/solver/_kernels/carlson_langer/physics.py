@@ -153,7 +153,7 @@ def uniform_dashpots(k, i, pos, W, graph):
     return f + (graph.eta_uniform * sv - graph.eta_sum[i] * W[i, vel])
 
 
-@inline_kernel
+@forced_kernel
 def force_hot(i, pos, W, graph):
     """:func:`force` for the hot loops: the DP5 stages and the step's join scan.
 
