@@ -4,7 +4,7 @@ From the committed state (D, V, A) of the active blocks to (DN, VN, AN), leaving
 ``P == P2 == DN`` on active blocks and D, V, A untouched, so that the step can be redone with
 another length.  Stage derivatives live in the columns ``KV + s`` (velocities) and ``KA + s``
 (accelerations) of the stage rows of W (:func:`~.tableau.stage_rows`), in the row of the
-block's position in the active list (``K[q, KV + s]``).
+block's position in the active list (``K[q, KV + s]``); ``graph`` is the ``Graph`` bundle.
 
 For the same accuracy this fifth-order scheme takes steps about five times longer than RK4
 with 6 instead of 4 force evaluations per step (the seventh, first-same-as-last evaluation is
@@ -34,7 +34,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     new_id,
     plate_row,
 )
-from faultnet.solver._kernels.jit import kernel
+from faultnet.solver._kernels.jit import kelvin_kernel, kernel
 
 __all__ = ["dopri_step"]
 
@@ -48,6 +48,22 @@ _A61, _A62, _A63, _A64, _A65 = 9017 / 3168, -355 / 33, 46732 / 5247, 49 / 176, -
 _C2, _C3, _C4, _C5 = 1 / 5, 3 / 10, 4 / 5, 8 / 9
 # weights of the 5th-order solution (b2 = 0)
 _B1, _B3, _B4, _B5, _B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
+
+
+@kelvin_kernel
+def _stage_velocity(v, i, col, W, graph):
+    """With viscous coupling, block ``i``'s stage velocity ``v`` into column ``col`` (Q, Q2)."""
+    if graph.viscous:
+        W[i, col] = v
+    return v
+
+
+@kelvin_kernel
+def _plate_stage(base, frac, nu_h, pos, W, graph):
+    """With a moving plate, its advance ``base + frac nu_h`` (``frac`` of the step) at ``pos``."""
+    if graph.nu > 0.0:
+        W[plate_row(W), pos] = base + frac * nu_h
+    return base
 
 
 @kernel
@@ -73,10 +89,9 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     Where the plate moves during events (``graph.nu``), each pass first sets the plate's
     advance at its stage's time in the plate row; with viscous coupling (``graph.viscous``)
     each pass also writes its blocks' next stage velocities in the column paired with the
-    positions it writes (Q with P, Q2 with P2), which the viscous force of their neighbours
-    reads.  After the step P and P2 hold the step's end, with VN in Q and Q2.  Both are
-    compiled for a :data:`~faultnet.solver._kernels.bundles.KelvinGraph` only: a plain
-    model's passes have neither branch.
+    positions it writes (Q with P, Q2 with P2), which their neighbours' viscous force reads;
+    after the step P and P2 hold its end, VN in Q and Q2.  Both are Kelvin kernels: a plain
+    model's step is compiled without them.
 
     The passes index with unsigned integers (active positions q, blocks i), for which Numba
     omits its negative-index wrap-around: 2-5% more events/s on W1, W4 and W5.  The scan and
@@ -84,11 +99,8 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     """
     W, IW = work.W, work.IW
     K = stage_rows(work)
-    visc = kelvin(graph) and graph.viscous
-    moving = kelvin(graph) and graph.nu > 0.0
-    pr = plate_row(W)
     nu_h = graph.nu * h
-    base = W[pr, D]
+    base = W[plate_row(W), D]
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v = W[i, V]
@@ -97,10 +109,8 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KA] = a
         W[i, P] = W[i, D] + h * _A21 * v
         K[q, KV + 1] = v + h * _A21 * a
-        if visc:
-            W[i, Q] = K[q, KV + 1]
-    if moving:
-        W[pr, P] = base + _C2 * nu_h
+        _stage_velocity(K[q, KV + 1], i, Q, W, graph)
+    _plate_stage(base, _C2, nu_h, P, W, graph)
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v2 = K[q, KV + 1]
@@ -108,10 +118,8 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KA + 1] = a2
         W[i, P2] = W[i, D] + h * (_A31 * K[q, KV] + _A32 * v2)
         K[q, KV + 2] = W[i, V] + h * (_A31 * K[q, KA] + _A32 * a2)
-        if visc:
-            W[i, Q2] = K[q, KV + 2]
-    if moving:
-        W[pr, P2] = base + _C3 * nu_h
+        _stage_velocity(K[q, KV + 2], i, Q2, W, graph)
+    _plate_stage(base, _C3, nu_h, P2, W, graph)
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v3 = K[q, KV + 2]
@@ -119,10 +127,8 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         K[q, KA + 2] = a3
         W[i, P] = W[i, D] + h * (_A41 * K[q, KV] + _A42 * K[q, KV + 1] + _A43 * v3)
         K[q, KV + 3] = W[i, V] + h * (_A41 * K[q, KA] + _A42 * K[q, KA + 1] + _A43 * a3)
-        if visc:
-            W[i, Q] = K[q, KV + 3]
-    if moving:
-        W[pr, P] = base + _C4 * nu_h
+        _stage_velocity(K[q, KV + 3], i, Q, W, graph)
+    _plate_stage(base, _C4, nu_h, P, W, graph)
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v4 = K[q, KV + 3]
@@ -132,10 +138,8 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         dv = _A51 * K[q, KA] + _A52 * K[q, KA + 1] + _A53 * K[q, KA + 2] + _A54 * a4
         W[i, P2] = W[i, D] + h * dp
         K[q, KV + 4] = W[i, V] + h * dv
-        if visc:
-            W[i, Q2] = K[q, KV + 4]
-    if moving:
-        W[pr, P2] = base + _C5 * nu_h
+        _stage_velocity(K[q, KV + 4], i, Q2, W, graph)
+    _plate_stage(base, _C5, nu_h, P2, W, graph)
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v5 = K[q, KV + 4]
@@ -157,10 +161,8 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         )
         W[i, P] = W[i, D] + h * dp
         K[q, KV + 5] = W[i, V] + h * dv
-        if visc:
-            W[i, Q] = K[q, KV + 5]
-    if moving:
-        W[pr, P] = base + nu_h
+        _stage_velocity(K[q, KV + 5], i, Q, W, graph)
+    _plate_stage(base, 1.0, nu_h, P, W, graph)
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v6 = K[q, KV + 5]
@@ -176,10 +178,9 @@ def dopri_step(h, nact, scan, vmax, graph, work):
         W[i, DN] = dn
         W[i, VN] = W[i, V] + h * dv
         W[i, P2] = dn
-        if visc:
-            W[i, Q2] = W[i, VN]
-    if moving:
-        W[pr, P2] = W[pr, DN] = base + nu_h
+        _stage_velocity(W[i, VN], i, Q2, W, graph)
+    _plate_stage(base, 1.0, nu_h, P2, W, graph)
+    _plate_stage(base, 1.0, nu_h, DN, W, graph)
     best = 2.0
     who = np.int64(-1)  # int64 from the start, not literals: fewer compiled signatures
     kind = np.int64(0)
@@ -190,15 +191,14 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     # a viscous join's rate reads its slipping neighbours' end accelerations: with viscous
     # coupling the scan waits until this pass has written all of them, and runs over the
     # active list a second time (one call site of the inlined scan either way)
-    late = visc and scan
+    late = kelvin(graph) and graph.viscous and scan
     n = np.uint64(nact)
     for r in range(n + n if late else n):
         q = np.uint64(r) if r < n else np.uint64(r) - n  # (uint64 in Python too)
         i = np.uint64(IW[ACT, q])
         if r < n:
             W[i, P] = W[i, DN]
-            if visc:
-                W[i, Q] = W[i, VN]
+            _stage_velocity(W[i, VN], i, Q, W, graph)
             W[i, AN] = accel_hot(i, P2, W[i, VN], W, graph)
         if scan and (r >= n) == late:
             # P2 holds every active block's end position (P is being updated)
