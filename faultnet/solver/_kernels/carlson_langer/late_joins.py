@@ -224,7 +224,7 @@ def _late_theta(j, h, graph, work):
     return hi
 
 
-@kernel
+@inline_kernel
 def _late_join(j, h, graph, work):
     """Stuck block j, pushed over the threshold by the step's crossings, joins where it did.
 
@@ -274,7 +274,7 @@ def _check(j, joining, h, ncand, ntouch, w, keys, graph, work):
     return ncand, ntouch
 
 
-@kernel
+@inline_kernel
 def late_joins(h, ncand, ntouch, w, keys, graph, work):
     """Joins revealed by the step's crossings, before the commit; returns (ncand, ntouch).
 

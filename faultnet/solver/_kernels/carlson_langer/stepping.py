@@ -150,7 +150,7 @@ def restore_positions(nact, W, IW):
     W[pr, P] = W[pr, P2] = W[pr, D]
 
 
-@kernel
+@inline_kernel
 def _residual(who, kind, W, IW, graph):
     """Crossing function of block ``who`` and its time derivative at the end of the last step.
 
@@ -161,7 +161,7 @@ def _residual(who, kind, W, IW, graph):
     return force(who, P, W, graph) - 1.0, force_rate(who, W, IW, graph)
 
 
-@kernel
+@inline_kernel
 def _taylor_shift(dh, nact, graph, work):
     """Move the end of the step by a tiny ``dh``: x += v dh + a dh^2 / 2, v += a dh.
 
