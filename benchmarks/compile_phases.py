@@ -3,6 +3,7 @@
     python benchmarks/compile_phases.py lattice
     python benchmarks/compile_phases.py ring --top 20
     python benchmarks/compile_phases.py lattice --rounds 3 --python /tmp/venv/bin/python
+    python benchmarks/compile_phases.py lattice --rounds 4 --top 0 --against /tmp/other
 
 Each round runs the first ``simulate`` call of one of ``benchmarks/run.py``'s compile models
 (``COMPILE_GRAPHS``: ``ring``, ``lattice``, ``exact``) in a child process with an empty Numba
@@ -16,6 +17,10 @@ for this measurement only, and prints:
 - each kernel's own compile time (without the kernels it compiles in turn), the LLVM time of
   its library (module passes and machine code, over its own code and every kernel linked
   into it) and its number of Numba IR statements.
+
+With ``--against CHECKOUT`` the rounds alternate between this checkout and another one (ABBA:
+the machine's speed drifts by 10-20% within an hour, more than most single changes move the
+compile), and a summary gives each one's range and the mean of the paired differences.
 
 The faultnet measured is this checkout's (its root goes first on the child's path), whatever
 the interpreter has installed.  The interpreter is ``--python`` (default: this one).  A fresh
@@ -35,7 +40,9 @@ import tempfile
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 # run.py's compile models, and the faultnet of this checkout (not an installed one)
-sys.path[:0] = [_HERE, os.path.dirname(_HERE)]
+#: the checkout whose faultnet a child measures (``--against`` sets it for the other one)
+_ROOT = os.environ.get("COMPILE_PHASES_CHECKOUT", os.path.dirname(_HERE))
+sys.path[:0] = [_HERE, _ROOT]
 
 #: the phases, in the order printed: (key, label)
 PHASES = (
@@ -152,17 +159,42 @@ def main(argv=None):
     ap.add_argument("--rounds", type=int, default=1, help="cold compiles, one per process")
     ap.add_argument("--top", type=int, default=12, help="kernels listed (default 12)")
     ap.add_argument("--python", default=sys.executable, help="interpreter of the child process")
+    ap.add_argument("--against", metavar="CHECKOUT", help="another checkout, alternated with this")
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
         _child(args.graph)
         return
+    roots = [os.path.dirname(_HERE)] + ([os.path.abspath(args.against)] if args.against else [])
+    totals = {root: [] for root in roots}
     for r in range(1, args.rounds + 1):
-        with tempfile.TemporaryDirectory() as cache:
-            env = dict(os.environ, NUMBA_CACHE_DIR=cache)
-            cmd = [args.python, os.path.abspath(__file__), args.graph, "--child"]
-            lines = subprocess.check_output(cmd, env=env).decode()
-        _print_round(args.graph, r, json.loads(lines.strip().splitlines()[-1]), args.top)
+        for root in roots if r % 2 else roots[::-1]:
+            out = _measure(args, root)
+            if args.against:
+                print(f"\n[{root}]", end="")
+            _print_round(args.graph, r, out, args.top)
+            totals[root].append(out["total"])
+    if args.against:
+        _print_summary(totals)
+
+
+def _measure(args, root):
+    """One cold compile of the faultnet in ``root``, in a child with an empty cache."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, COMPILE_PHASES_CHECKOUT=root)
+        cmd = [args.python, os.path.abspath(__file__), args.graph, "--child"]
+        lines = subprocess.check_output(cmd, env=env).decode()
+    return json.loads(lines.strip().splitlines()[-1])
+
+
+def _print_summary(totals):
+    (a, ta), (b, tb) = totals.items()
+    diff = [x - y for x, y in zip(ta, tb, strict=True)]
+    print("\ncold first simulate, collector off:")
+    for root, t in totals.items():
+        print(f"  {root}: {min(t):.2f}-{max(t):.2f} s, mean {sum(t) / len(t):.2f} s")
+    print(f"  paired differences ({a} minus {b}): " + ", ".join(f"{d:+.2f}" for d in diff))
+    print(f"  mean difference {sum(diff) / len(diff):+.2f} s over {len(diff)} rounds")
 
 
 if __name__ == "__main__":
