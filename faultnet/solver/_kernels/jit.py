@@ -26,11 +26,14 @@ on events/s (``benchmarks/README.md``):
   events/s);
 - a helper with one call site is typed once either way, and inlined by Numba it needs no
   library of its own (each library costs its own LLVM module passes and machine code, and
-  is linked into its callers' again): a helper called once from a kernel is inlined (fifteen
-  of them: 0.4 s and then 0.4 s less cold compile on the lattice, the same events/s), as is
-  the event's integration (:mod:`.carlson_langer.slip`) into the event loop.  Chains of
-  inlined helpers are avoided: the inliner reruns its passes at every level (inlining 26
-  single-caller kernels along such chains once compiled the lattice in 32 s against 17 s).
+  is linked into its callers' again): a helper called once from a kernel is inlined (0.4 s,
+  0.4 s and 0.3 s less cold compile on the lattice in three rounds of such changes, the same
+  events/s), as is the event's integration (:mod:`.carlson_langer.slip`) into the event
+  loop.  Chains of inlined helpers are avoided: the inliner reruns its passes at every level
+  (inlining 26 single-caller kernels along such chains once compiled the lattice in 32 s
+  against 17 s); where a single-caller helper is itself inlined, its own single-caller
+  helpers stay kernels, or it becomes a kernel into which they are inlined (the stops'
+  position and shift into :func:`~.carlson_langer.interp._stop`).
 
 A kernel compiles once per signature, and Numba types a Python ``int`` or ``bool`` constant
 argument as a literal, one signature per value.  So the constants that kernels pass to one

@@ -102,7 +102,7 @@ from faultnet.solver._kernels.layout import CNT_INTERPOLATED_CROSSINGS
 __all__ = ["interpolated_crossings"]
 
 
-@inline_kernel
+@kernel
 def _stop(b, th, h, graph, work):
     """Block b stops at fraction th: its stop position, neighbours corrected.
 

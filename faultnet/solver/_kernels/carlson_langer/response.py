@@ -194,7 +194,7 @@ def join_cubic(n, s, h, W):
     return u * u * ((3.0 * x1 - d1) + u * (d1 - 2.0 * x1))
 
 
-@kernel
+@inline_kernel
 def stop_shift(b, th, h, graph, work):
     """Shift of slipping block b's stop (at fraction th) by its neighbours' earlier crossings.
 
@@ -317,7 +317,7 @@ def _moment(T, m, a):
     return s
 
 
-@kernel
+@inline_kernel
 def stop_position(b, th, h, graph, work):
     """Position of slipping block b at its stop, fraction th of the step.
 
