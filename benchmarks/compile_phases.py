@@ -166,6 +166,8 @@ def main(argv=None):
         _child(args.graph)
         return
     roots = [os.path.dirname(_HERE)] + ([os.path.abspath(args.against)] if args.against else [])
+    if len(set(roots)) < len(roots):
+        ap.error(f"--against names this checkout ({roots[0]}): give another one")
     totals = {root: [] for root in roots}
     for r in range(1, args.rounds + 1):
         for root in roots if r % 2 else roots[::-1]:

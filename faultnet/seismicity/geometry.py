@@ -90,9 +90,9 @@ def geometry(obj):
         nodes = list(graph.nodes) if nodes is None else nodes
         if adjacency is None:
             adjacency = nx.to_scipy_sparse_array(graph, nodelist=nodes, format="csr")
-            # int32 indices: SciPy's graph routines before 1.15 take no others
-            adjacency.indices = adjacency.indices.astype(np.int32)
-            adjacency.indptr = adjacency.indptr.astype(np.int32)
+            if adjacency.nnz < 2**31:  # int32 indices: SciPy's graph routines before 1.15
+                adjacency.indices = adjacency.indices.astype(np.int32)
+                adjacency.indptr = adjacency.indptr.astype(np.int32)
         pos = [graph.nodes[v].get("pos") for v in nodes]
         coords = None if any(p is None for p in pos) else np.asarray(pos, dtype=np.float64)
     else:  # SparseGraph: blocks 0..n-1, positions only for the square lattice
