@@ -47,8 +47,7 @@ Arguments: ``h`` the step's length, ``th`` a fraction of it, ``b``, ``j`` blocks
 ``ntouch`` the lengths of the active and touched lists, ``ncand`` the crossings listed in
 ``IW[CAND]``, ``e`` an entry of that list (a join's block, ``-2 - b`` for a stop of b, -1
 dropped), ``w`` the plate position, ``keys`` the failure keys (for the blocks a join touches),
-``W`` the work array, ``graph`` and ``work`` the bundles
-the ``Graph`` and ``Work`` bundles (:mod:`~faultnet.solver._kernels.bundles`).
+``W`` the work array, ``graph`` and ``work`` the bundles (:mod:`~faultnet.solver._kernels.bundles`).
 """
 
 from faultnet.solver._kernels.carlson_langer.crossing import join_theta, stick_theta

@@ -14,8 +14,8 @@ slips again (:func:`rejoin`), from where the force's expansion back from the end
 Arguments: ``h`` the step's length, ``b``, ``j``, ``n`` blocks, ``s`` a fraction of the step,
 ``nact``, ``ntouch``, ``ncand`` the lengths of the active, touched and crossing lists, ``w`` the
 plate position and ``keys`` the failure keys (for the blocks a join touches), ``W``, ``IW`` the
-work arrays and ``K`` their stage rows, ``graph`` and ``work`` the bundles
-the ``Graph`` and ``Work`` bundles (:mod:`~faultnet.solver._kernels.bundles`).
+work arrays and ``K`` their stage rows, ``graph`` and ``work`` the ``Graph`` and ``Work`` bundles
+(:mod:`~faultnet.solver._kernels.bundles`).
 """
 
 import numpy as np
@@ -224,13 +224,14 @@ def _late_theta(j, h, graph, work):
     return hi
 
 
-@inline_kernel
+@kernel
 def _late_join(j, h, graph, work):
     """Stuck block j, pushed over the threshold by the step's crossings, joins where it did.
 
-    Its path (:func:`~.response.join_path`) from the fraction where its force
-    crossed 1, its slipping and earlier-joining neighbours' answer to it, and its own answer to
-    its stopping neighbours.
+    Its path (:func:`~.response.join_path`) from the fraction where its force crossed 1, its
+    slipping and earlier-joining neighbours' answer to it, and its own answer to its stopping
+    neighbours.  A kernel: :func:`_check` (LLVM inlines it at two sites) runs for every
+    neighbour of a crossing, this rarely.
     """
     W, IW = work.W, work.IW
     K = stage_rows(work)
