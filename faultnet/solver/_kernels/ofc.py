@@ -84,7 +84,7 @@ _NONE = math.inf
 def scan_chunk(c, keys):
     """The smallest key of chunk ``c`` and its block (the lowest index on ties)."""
     lo = c * CHUNK
-    hi = min(lo + CHUNK, keys.shape[0])
+    hi = min(lo + CHUNK, len(keys))
     v = _NONE
     b = -1
     for i in range(lo, hi):
@@ -98,7 +98,7 @@ def scan_chunk(c, keys):
 def chunk_update(c, v, b, tv, ti):
     """Put chunk ``c``'s smallest key ``v`` (block ``b``) in its leaf and walk up while a node
     changes (ties to the left child)."""
-    p = tv.shape[0] // 2 + c
+    p = len(tv) // 2 + c
     tv[p] = v
     ti[p] = b
     p //= 2
@@ -116,10 +116,10 @@ def chunk_update(c, v, b, tv, ti):
 @kernel
 def build_tree(keys, tv, ti):
     """Rebuild the tree over ``keys`` (O(N))."""
-    leaves = tv.shape[0] // 2
+    leaves = len(tv) // 2
     for c in range(leaves):
         p = leaves + c
-        if c * CHUNK < keys.shape[0]:
+        if c * CHUNK < len(keys):
             tv[p], ti[p] = scan_chunk(c, keys)
         else:
             tv[p] = _NONE
@@ -139,8 +139,8 @@ def at_threshold(w, keys, tv, cur, stack):
     A depth-first search of the tree that enters a subtree only where its smallest key is at
     most ``w``, then scans the chunks it reaches.  ``stack`` needs ``log2(leaves) + 2`` entries.
     """
-    leaves = tv.shape[0] // 2
-    n = keys.shape[0]
+    leaves = len(tv) // 2
+    n = len(keys)
     m = 0
     top = 1
     stack[0] = 1
@@ -175,8 +175,8 @@ def avalanche(e, state, graph, ctrl, work, records):
     cur, nxt, amount, mark, seen = work.cur, work.nxt, work.amount, work.mark, work.seen
     fseen, cmark, clist, cnt = work.fseen, work.cmark, work.clist, work.cnt
     cat_f, cat_i = records.cat_f, records.cat_i
-    leaves = tv.shape[0] // 2
-    faults = fseen.shape[0] > 1  # a network of faults: count them (else: one, if any)
+    leaves = len(tv) // 2
+    faults = len(fseen) > 1  # a network of faults: count them (else: one, if any)
     w = tv[1]  # the drive at which the first block reaches the threshold
     scal[SCAL_W] = w
     nc = at_threshold(w, keys, tv, cur, nxt)
@@ -279,7 +279,7 @@ def _recentre(state):
     shift = math.floor(scal[SCAL_W])
     scal[SCAL_OFFSET] += shift
     scal[SCAL_W] -= shift
-    for i in range(keys.shape[0]):
+    for i in range(len(keys)):
         keys[i] -= shift
     build_tree(keys, state.tv, state.ti)
 

@@ -133,7 +133,8 @@ def _list(b, th, IW, loc):
     The count is ``loc[LOC_NCAND]``; -1 once the row is full (the list is then not used).
     """
     n = int(loc[LOC_NCAND])
-    if n >= IW.shape[1]:
+    _, width = IW.shape
+    if n >= width:
         loc[LOC_NCAND] = -1.0
     elif n >= 0:
         IW[CAND, n] = b

@@ -114,7 +114,7 @@ def _finish_event(ntouch, ev, state, graph, work, records):
     slip_event, slip_node, slip_val = records.slip_event, records.slip_node, records.slip_val
     total = 0.0
     nblk = nflt = 0
-    rec = slip_val.shape[0] > 0
+    rec = len(slip_val) > 0
     row = cnt[CNT_SLIP_ROWS]
     for q in range(ntouch):
         j = IW[TOUCH, q]
@@ -166,7 +166,7 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
     out[OUT_HYPOCENTER] = hyp
     # free single-block slip: reuse the block class's solo slip when no neighbour can reach
     # the threshold during it
-    solo_case = at_threshold and ctrl[CTRL_SOLO_CACHE] > 0.0 and records.trace_nodes.shape[0] == 0
+    solo_case = at_threshold and ctrl[CTRL_SOLO_CACHE] > 0.0 and len(records.trace_nodes) == 0
     c = cls[hyp]
     rows0 = work.cnt[CNT_TRACE_ROWS]
     computing = solo_case and not (solo[c, SOLO_SLIP] == solo[c, SOLO_SLIP])
@@ -188,7 +188,7 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
             nact, ntouch = _start(hyp, w, state, graph, work)
             if not at_threshold:  # a given state: every block above the threshold slips now
                 nact, ntouch = _start_above(nact, ntouch, w, state, graph, work)
-            if records.trace_nodes.shape[0] > 0:
+            if len(records.trace_nodes) > 0:
                 record_trace(ev, 0.0, state, work, records)
             run_w = w
         status, t, nsteps, ntouch = integrate(
@@ -264,7 +264,7 @@ def _start_above(nact, ntouch, w, state, graph, work):
     where no spring links them to the hypocentre.  One pass over the blocks.
     """
     keys, IW = state.keys, work.IW
-    for j in range(keys.shape[0]):
+    for j in range(len(keys)):
         if keys[j] <= w and IW[FLAG, j] != ACTIVE:
             if IW[FLAG, j] == UNTOUCHED:
                 ntouch = touch(j, w, keys, work.W, IW, ntouch)
@@ -279,7 +279,7 @@ def _recentre(state, graph):
     shift = math.floor(scal[SCAL_W])
     scal[SCAL_OFFSET] += shift
     scal[SCAL_W] -= shift
-    for i in range(z.shape[0]):
+    for i in range(len(z)):
         z[i] -= shift
     build_keys_and_tree(state, graph)
 
@@ -296,12 +296,12 @@ def _run_events(integrate, n_req, ev0, state, graph, ctrl, cls, solo, work, reco
     z, scal = state.z, state.scal
     cnt = work.cnt
     cat_f, cat_i, profiles, out = records.cat_f, records.cat_i, records.profiles, records.out
-    n = z.shape[0]
+    n = len(z)
     if ctrl[CTRL_REBUILD] != 0.0:
         build_keys_and_tree(state, graph)
         ctrl[CTRL_REBUILD] = 0.0
     for e in range(n_req):
-        if records.slip_val.shape[0] > 0 and cnt[CNT_SLIP_ROWS] + n > records.slip_val.shape[0]:
+        if len(records.slip_val) > 0 and cnt[CNT_SLIP_ROWS] + n > len(records.slip_val):
             return STATUS_SLIPS_FULL
         status = _one_event(integrate, ev0 + e, state, graph, ctrl, cls, solo, work, records)
         if status != STATUS_OK:
@@ -313,7 +313,7 @@ def _run_events(integrate, n_req, ev0, state, graph, ctrl, cls, solo, work, reco
         cat_i[e, CAT_HYPOCENTER] = int(out[OUT_HYPOCENTER])
         cat_i[e, CAT_STEPS] = int(out[OUT_STEPS])
         cat_i[e, CAT_FAULTS] = int(out[OUT_FAULTS])
-        if profiles.shape[0] > 0:
+        if len(profiles) > 0:
             for i in range(n):
                 profiles[e, i] = scal[SCAL_OFFSET] + z[i]
         cnt[CNT_EVENTS] = e + 1

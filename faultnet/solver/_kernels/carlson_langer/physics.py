@@ -141,10 +141,11 @@ def uniform_dashpots(k, i, pos, W, graph):
     """:func:`force_hot` with uniform springs ``k`` and dashpots (``graph.eta_uniform``): the
     neighbours' velocities summed in the positions' pass (21% more events/s than two passes)."""
     nbr = graph.nbr
+    _, width = nbr.shape
     vel = velocities(pos)
     s = 0.0
     sv = 0.0
-    for c in range(nbr.shape[1]):
+    for c in range(width):
         s += W[nbr[i, c], pos]
         sv += W[nbr[i, c], vel]
     f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
@@ -170,8 +171,9 @@ def force_hot(i, pos, W, graph):
         if kelvin(graph) and graph.eta_uniform > 0.0:
             return uniform_dashpots(k, i, pos, W, graph)
         nbr = graph.nbr
+        _, width = nbr.shape
         s = 0.0
-        for c in range(nbr.shape[1]):
+        for c in range(width):
             s += W[nbr[i, c], pos]
         f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
         return kelvin_terms(f, np.int64(i), pos, W, graph)

@@ -71,10 +71,10 @@ def record_trace(ev, t, state, work, records):
     z, scal, W, cnt = state.z, state.scal, work.W, work.cnt
     trace_nodes, trace_buf = records.trace_nodes, records.trace_buf
     row = cnt[CNT_TRACE_ROWS]
-    if row >= trace_buf.shape[0]:
+    if row >= len(trace_buf):
         cnt[CNT_TRACE_FULL] = 1
         return
-    m = trace_nodes.shape[0]
+    m = len(trace_nodes)
     trace_buf[row, TRACE_EVENT] = ev
     trace_buf[row, TRACE_TIME] = t
     for c in range(m):
@@ -101,7 +101,7 @@ def integrate_exact(ev, nact, ntouch, w, state, ctrl, graph, work, records):
     keys = state.keys
     dt, vmax = ctrl[CTRL_DT], ctrl[CTRL_MAX_VELOCITY]
     max_steps = _max_steps(ctrl)
-    tracing = records.trace_nodes.shape[0] > 0
+    tracing = len(records.trace_nodes) > 0
     t = 0.0
     nsteps = 0
     one = nsteps - nsteps + 1  # int64, not a literal: one compiled signature per kernel
@@ -153,7 +153,7 @@ def integrate_interpolated(ev, nact, ntouch, w, state, ctrl, graph, work, record
     keys = state.keys
     dt, vmax = ctrl[CTRL_DT], ctrl[CTRL_MAX_VELOCITY]
     max_steps = _max_steps(ctrl)
-    tracing = records.trace_nodes.shape[0] > 0
+    tracing = len(records.trace_nodes) > 0
     t = 0.0
     nsteps = 0
     zero = nsteps - nsteps  # int64, not a literal: one compiled signature per kernel

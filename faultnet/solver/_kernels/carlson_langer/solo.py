@@ -133,7 +133,7 @@ def solo_apply(hyp, s1, ev, state, graph, cnt, records):
         j = graph.indices[p]
         keys[j] = block_key(j, z, off, graph)
         tree_update(j, keys, tree)
-    if records.slip_val.shape[0] > 0:
+    if len(records.slip_val) > 0:
         row = cnt[CNT_SLIP_ROWS]
         records.slip_event[row] = ev
         records.slip_node[row] = hyp

@@ -48,16 +48,8 @@ def slot_dense(y0, y1, h, K, q, col, end):
     (positions: derivatives are the stage velocities) or KA (velocities); ``end`` is the
     derivative at the end of the step.
     """
-    return dense_coeffs(
-        y0,
-        y1,
-        h * K[q, col],
-        h * K[q, col + 2],
-        h * K[q, col + 3],
-        h * K[q, col + 4],
-        h * K[q, col + 5],
-        h * end,
-    )
+    k1, k3, k4, k5, k6 = K[q, col], K[q, col + 2], K[q, col + 3], K[q, col + 4], K[q, col + 5]
+    return dense_coeffs(y0, y1, h * k1, h * k3, h * k4, h * k5, h * k6, h * end)
 
 
 @inline_kernel
@@ -66,5 +58,5 @@ def stage_rows(work):
 
     A view; the kernels run without Numba's reference counting, so it costs nothing.
     """
-    n = work.IW.shape[1]
+    _, n = work.IW.shape
     return work.W[n : 2 * n]

@@ -35,8 +35,8 @@ def build_keys_and_tree(state, graph):
     (``ctrl[CTRL_REBUILD]``) and at each re-centring of the frame.
     """
     z, keys, tree = state.z, state.keys, state.tree
-    n = z.shape[0]
-    leaves = tree.shape[0] // 2
+    n = len(z)
+    leaves = len(tree) // 2
     off = state.scal[SCAL_OFFSET]
     for i in range(n):
         keys[i] = block_key(i, z, off, graph)
@@ -56,7 +56,7 @@ def tree_update(i, keys, tree):
     10^6-block lattice the nodes near the root are far apart in memory, and most updates stop
     within a few levels of the leaf.
     """
-    p = (tree.shape[0] // 2 + i) // 2
+    p = (len(tree) // 2 + i) // 2
     while p >= 1:
         w = _winner(tree[2 * p], tree[2 * p + 1], keys)
         if w == tree[p] and w != i:

@@ -124,7 +124,7 @@ def new_id(cnt):
 @kernel
 def plate_row(W):
     """Index of the plate row of ``W`` (its last): the plate's advance per position column."""
-    return W.shape[0] - 1
+    return len(W) - 1
 
 
 @kernel
