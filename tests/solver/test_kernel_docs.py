@@ -63,3 +63,21 @@ def test_every_kernel_argument_is_documented(file, node, module_doc):
     args = [a.arg for a in node.args.args]
     missing = [a for a in args if not (_mentioned(a, doc) or _mentioned(a, module_doc))]
     assert missing == [], f"{file}:{node.name} does not document {missing}"
+
+
+@pytest.mark.parametrize(
+    "path", sorted(FOLDER.glob("*.py")) + [FOLDER.parent / "ofc.py"], ids=lambda p: p.name
+)
+def test_no_constant_index_into_an_array_shape(path):
+    # kernels compile without Numba's rewrite passes (jit.py), so ``a.shape[0]`` would type
+    # through Numba's getitem overloads and compile a function of its own: ``len(a)``, or
+    # ``_, n = a.shape``
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found = [
+        node.lineno
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Subscript)
+        and isinstance(node.value, ast.Attribute)
+        and node.value.attr == "shape"
+    ]
+    assert found == []
