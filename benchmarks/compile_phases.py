@@ -4,6 +4,7 @@
     python benchmarks/compile_phases.py ring --top 20
     python benchmarks/compile_phases.py lattice --rounds 3 --python /tmp/venv/bin/python
     python benchmarks/compile_phases.py lattice --rounds 4 --top 0 --against /tmp/other
+    python benchmarks/compile_phases.py lattice --top 0 --count
 
 Each round runs the first ``simulate`` call of one of ``benchmarks/run.py``'s compile models
 (``COMPILE_GRAPHS``: ``ring``, ``lattice``, ``exact``) in a child process with an empty Numba
@@ -17,6 +18,11 @@ for this measurement only, and prints:
 - each kernel's own compile time (without the kernels it compiles in turn), the LLVM time of
   its library (module passes and machine code, over its own code and every kernel linked
   into it) and its number of Numba IR statements.
+
+With ``--count`` it also counts the LLVM instructions that each library's module passes
+start from, summed over all libraries: unlike the times, a number this machine's drift does
+not move, for a change to the code that LLVM optimises and emits (the counting's own time is
+left out).
 
 With ``--against CHECKOUT`` the rounds alternate between this checkout and another one (ABBA:
 the machine's speed drifts by 10-20% within an hour, more than most single changes move the
@@ -56,8 +62,12 @@ PHASES = (
 )
 
 
-def _child(graph):
-    """Compile and run one model with timers on Numba's compiler; print the result as JSON."""
+def _child(graph, count=False):
+    """Compile and run one model with timers on Numba's compiler; print the result as JSON.
+
+    With ``count``, each library's LLVM instructions are counted before its module passes (the
+    time of the counting is left out of every phase and of the total).
+    """
     import collections
     import gc
     import time
@@ -101,6 +111,24 @@ def _child(graph):
     timed(codegen.CPUCodeLibrary, "_optimize_functions", lambda self, *a: "fpass")
     timed(codegen.CPUCodeLibrary, "_optimize_final_module", lambda self: "modpass")
     timed(codegen.JITCodeLibrary, "_finalize_specific", lambda self: "mcode")
+    llvm_ir = {"instructions": 0, "libraries": 0, "seconds": 0.0}
+    if count:
+        optimize = codegen.CPUCodeLibrary._optimize_final_module
+
+        def counted(self):
+            t = time.perf_counter()
+            module = self._final_module
+            llvm_ir["instructions"] += sum(
+                1 for f in module.functions for b in f.blocks for _ in b.instructions
+            )
+            llvm_ir["libraries"] += 1
+            dt = time.perf_counter() - t
+            llvm_ir["seconds"] += dt
+            if stack:
+                stack[-1] += dt  # not the enclosing phase's time
+            return optimize(self)
+
+        codegen.CPUCodeLibrary._optimize_final_module = counted
 
     compile_ = dispatcher.Dispatcher.compile
 
@@ -131,11 +159,12 @@ def _child(graph):
     t = time.perf_counter()
     model = eval(f"faultnet.CarlsonLanger({COMPILE_GRAPHS[graph]})")
     faultnet.simulate(model, 1, rng=1, progress=False)
-    total = time.perf_counter() - t
+    total = time.perf_counter() - t - llvm_ir["seconds"]
     phase["other"] = total - sum(phase.values())
     # a kernel's library is named after its function's qualified name
     kernels = {name: [own[name], llvm.get(name, 0.0), stmts.get(name)] for name in own}
-    print(json.dumps({"total": total, "phases": dict(phase), "kernels": kernels}))
+    out = {"total": total, "phases": dict(phase), "kernels": kernels}
+    print(json.dumps(dict(out, llvm_ir=llvm_ir) if count else out))
 
 
 def _print_round(graph, r, out, top):
@@ -151,6 +180,9 @@ def _print_round(graph, r, out, top):
     if rest:
         print(f"  {f'{len(rest)} more kernels':44} {sum(v[0] for _, v in rest):6.2f}")
     print(f"  {'IR statements lowered, all kernels':44} {sum(v[2] or 0 for _, v in rows):>21}")
+    if "llvm_ir" in out:
+        n, libs = out["llvm_ir"]["instructions"], out["llvm_ir"]["libraries"]
+        print(f"  {f'LLVM instructions unoptimised, {libs} libraries':44} {n:>21}")
 
 
 def main(argv=None):
@@ -160,10 +192,13 @@ def main(argv=None):
     ap.add_argument("--top", type=int, default=12, help="kernels listed (default 12)")
     ap.add_argument("--python", default=sys.executable, help="interpreter of the child process")
     ap.add_argument("--against", metavar="CHECKOUT", help="another checkout, alternated with this")
+    ap.add_argument(
+        "--count", action="store_true", help="also count LLVM instructions (deterministic)"
+    )
     ap.add_argument("--child", action="store_true", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
-        _child(args.graph)
+        _child(args.graph, args.count)
         return
     roots = [os.path.dirname(_HERE)] + ([os.path.abspath(args.against)] if args.against else [])
     if len(set(roots)) < len(roots):
@@ -185,6 +220,7 @@ def _measure(args, root):
     with tempfile.TemporaryDirectory() as cache:
         env = dict(os.environ, NUMBA_CACHE_DIR=cache, COMPILE_PHASES_CHECKOUT=root)
         cmd = [args.python, os.path.abspath(__file__), args.graph, "--child"]
+        cmd += ["--count"] if args.count else []
         lines = subprocess.check_output(cmd, env=env).decode()
     return json.loads(lines.strip().splitlines()[-1])
 
