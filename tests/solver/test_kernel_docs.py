@@ -15,6 +15,8 @@ FOLDER = Path(__file__).resolve().parents[2] / "faultnet" / "solver" / "_kernels
 DECORATORS = {"kernel", "inline_kernel", "forced_kernel", "kelvin_kernel", "entry"}
 #: the engine's kernels stay small enough to read
 MAX_LINES = 3200
+#: the engine's kernel modules and the OFC kernel
+KERNEL_FILES = sorted(FOLDER.glob("*.py")) + [FOLDER.parent / "ofc.py"]
 
 
 def _kernels():
@@ -65,9 +67,7 @@ def test_every_kernel_argument_is_documented(file, node, module_doc):
     assert missing == [], f"{file}:{node.name} does not document {missing}"
 
 
-@pytest.mark.parametrize(
-    "path", sorted(FOLDER.glob("*.py")) + [FOLDER.parent / "ofc.py"], ids=lambda p: p.name
-)
+@pytest.mark.parametrize("path", KERNEL_FILES, ids=lambda p: p.name)
 def test_no_constant_index_into_an_array_shape(path):
     # kernels compile without Numba's rewrite passes (jit.py), so ``a.shape[0]`` would type
     # through Numba's getitem overloads and compile a function of its own: ``len(a)``, or
@@ -79,5 +79,20 @@ def test_no_constant_index_into_an_array_shape(path):
         if isinstance(node, ast.Subscript)
         and isinstance(node.value, ast.Attribute)
         and node.value.attr == "shape"
+    ]
+    assert found == []
+
+
+@pytest.mark.parametrize("path", KERNEL_FILES, ids=lambda p: p.name)
+def test_no_min_max_or_int_builtins(path):
+    # Numba compiles its overloads of min, max and int once per argument types and compile
+    # flags, a library each (jit.py): the kernels compare, and cast with np.int64
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    found = [
+        (node.lineno, node.func.id)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Call)
+        and isinstance(node.func, ast.Name)
+        and node.func.id in ("min", "max", "int")
     ]
     assert found == []

@@ -4,17 +4,23 @@ Every kernel is compiled without Numba's reference counting (``_nrt=False``: no 
 happens inside them) and without its rewrite passes (``no_rewrites``: folding a tuple's ``len``
 and an array's ``ndim`` into constants, pruning the branches they decide, fusing array
 expressions; no kernel has any of these, and a model's kinds are chosen by type,
-:func:`kelvin_kernel`), and releases the GIL. The rewrites also ran over every inlined helper's
-IR again: without them Numba's passes before typing take 0.44 s less of a lattice's cold
-compile (1.76 s against 2.20 s, four alternating rounds; the LLVM IR is the same, bit-identical
-catalogs). One rewrite did matter: it typed a constant index into a tuple (``a.shape[0]``)
-without Numba's ``getitem`` overloads, which otherwise compile a function per tuple type; so
-the kernels write ``len(a)`` and unpack ``_, n = a.shape``. Only the entry kernels
+:func:`kelvin_kernel`), and releases the GIL. Only the entry kernels
 (:mod:`.carlson_langer.events`) are called from Python; the others are built without the Python
 and C wrappers (``no_cpython_wrapper``, ``no_cfunc_wrapper``), which saves compile time, and so
 can be called from compiled code only (from Python they would crash). Every kernel is cached on
 disk under one stamp of all the kernels' sources together (:mod:`.cache`), so that a change to
 any kernel recompiles the entries that contain it.
+
+The rewrites ran over every kernel's IR and again over every inlined helper's: without them
+Numba's passes before typing take 0.44 s less of a lattice's cold compile (1.76 s against
+2.20 s, four alternating rounds; the same LLVM IR and catalogs). One rewrite did matter: it
+typed a constant index into a tuple (``a.shape[0]``) without Numba's ``getitem`` overloads,
+which otherwise compile a function per tuple type; so the kernels write ``len(a)`` and unpack
+``_, n = a.shape``. Nor do they call ``min``, ``max`` or ``int``: Numba compiles its overloads
+of them once per argument types and compile flags, a library each (nine in a lattice run), so
+the kernels compare (``b if b < a else a`` is what Numba's ``min(a, b)`` computes) and cast
+with ``np.int64``: 0.69 s less cold compile over four alternating rounds, the same catalogs.
+``tests/solver/test_kernel_docs.py`` keeps both out.
 
 Which helpers are inlined by Numba (:data:`inline_kernel`) and which are kernels of their
 own (:data:`kernel`, :data:`forced_kernel`) is a trade between compile time and speed,

@@ -84,7 +84,7 @@ _NONE = math.inf
 def scan_chunk(c, keys):
     """The smallest key of chunk ``c`` and its block (the lowest index on ties)."""
     lo = c * CHUNK
-    hi = min(lo + CHUNK, len(keys))
+    hi = lo + CHUNK if lo + CHUNK < len(keys) else len(keys)
     v = _NONE
     b = -1
     for i in range(lo, hi):
@@ -151,7 +151,7 @@ def at_threshold(w, keys, tv, cur, stack):
             continue
         if p >= leaves:
             lo = (p - leaves) * CHUNK
-            for i in range(lo, min(lo + CHUNK, n)):
+            for i in range(lo, lo + CHUNK if lo + CHUNK < n else n):
                 if keys[i] <= w:
                     cur[m] = i
                     m += 1
@@ -267,7 +267,7 @@ def avalanche(e, state, graph, ctrl, work, records):
     cat_f[e, OFC_CAT_S] = total
     cat_i[e, OFC_CAT_TOPPLINGS] = ntop
     cat_i[e, OFC_CAT_BLOCKS] = nblk
-    cat_i[e, OFC_CAT_FAULTS] = nflt if faults else min(nblk, 1)
+    cat_i[e, OFC_CAT_FAULTS] = nflt if faults else (1 if nblk > 0 else 0)
     cat_i[e, OFC_CAT_GENERATIONS] = ngen
     return OFC_STATUS_OK
 

@@ -132,7 +132,7 @@ def _list(b, th, IW, loc):
 
     The count is ``loc[LOC_NCAND]``; -1 once the row is full (the list is then not used).
     """
-    n = int(loc[LOC_NCAND])
+    n = np.int64(loc[LOC_NCAND])
     _, width = IW.shape
     if n >= width:
         loc[LOC_NCAND] = -1.0

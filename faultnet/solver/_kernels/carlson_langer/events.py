@@ -24,6 +24,8 @@ computed).
 
 import math
 
+import numpy as np
+
 from faultnet.solver._kernels.carlson_langer.crossing import (
     STATUS_EVENT_TOO_LONG,
     STATUS_INTERRUPTED,
@@ -309,10 +311,10 @@ def _run_events(integrate, n_req, ev0, state, graph, ctrl, cls, solo, work, reco
         cat_f[e, CAT_T] = out[OUT_T]
         cat_f[e, CAT_DURATION] = out[OUT_DURATION]
         cat_f[e, CAT_S] = out[OUT_SLIP]
-        cat_i[e, CAT_BLOCKS] = int(out[OUT_BLOCKS])
-        cat_i[e, CAT_HYPOCENTER] = int(out[OUT_HYPOCENTER])
-        cat_i[e, CAT_STEPS] = int(out[OUT_STEPS])
-        cat_i[e, CAT_FAULTS] = int(out[OUT_FAULTS])
+        cat_i[e, CAT_BLOCKS] = np.int64(out[OUT_BLOCKS])
+        cat_i[e, CAT_HYPOCENTER] = np.int64(out[OUT_HYPOCENTER])
+        cat_i[e, CAT_STEPS] = np.int64(out[OUT_STEPS])
+        cat_i[e, CAT_FAULTS] = np.int64(out[OUT_FAULTS])
         if len(profiles) > 0:
             for i in range(n):
                 profiles[e, i] = scal[SCAL_OFFSET] + z[i]

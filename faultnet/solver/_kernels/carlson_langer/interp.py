@@ -50,6 +50,8 @@ dropped), ``w`` the plate position, ``keys`` the failure keys (for the blocks a 
 ``W`` the work array, ``graph`` and ``work`` the bundles (:mod:`~faultnet.solver._kernels.bundles`).
 """
 
+import numpy as np
+
 from faultnet.solver._kernels.carlson_langer.crossing import join_theta, stick_theta
 from faultnet.solver._kernels.carlson_langer.late_joins import late_joins, refresh, rejoin
 from faultnet.solver._kernels.carlson_langer.physics import (
@@ -181,7 +183,7 @@ def _push(j, s, h, graph, work):
             t = (s - tm) * h
             e = t * t * (0.5 * a0 + t * (jerk / 6.0 + snap * t / 24.0))
         dF += kval[p] * e
-        lo = min(lo, tm)
+        lo = tm if tm < lo else lo
     return dF, lo
 
 
@@ -203,7 +205,8 @@ def _chained(j, th, h, graph, work):
         df = jerk - friction_slope(j, 0.0, graph) * a0  # F' at th
         if df <= 0.0:
             return th
-        return min(th - dF / (h * df), 1.0)
+        th = th - dF / (h * df)
+        return 1.0 if 1.0 < th else th
     g1, g2, g3, g4 = neighbour_poly(j, h, -1.0, graph, work)
     f0 = force(j, D, work.W, graph) - 1.0
     a, fa = lo, f0 + lo * (g1 + lo * (g2 + lo * (g3 + lo * g4)))
@@ -309,7 +312,7 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
     no block is left slipping.
     """
     W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
-    ncand = int(loc[LOC_NCAND])
+    ncand = np.int64(loc[LOC_NCAND])
     th_stop = 0.0
     _locate(h, ncand, graph, work)
     for c in range(ncand):
@@ -324,7 +327,7 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
         if e <= -2:
             th = W[-2 - e, VS]
             _stop(-2 - e, th, h, graph, work)
-            th_stop = max(th_stop, th)
+            th_stop = th if th > th_stop else th_stop
         elif e >= 0:
             place_join(e, W[e, VS], h, graph, work)
     ncand, ntouch = late_joins(h, ncand, ntouch, w, keys, graph, work)

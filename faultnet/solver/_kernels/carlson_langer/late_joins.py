@@ -89,7 +89,7 @@ def _first_root(c0, c1, c2, lo, hi):
     sq = disc**0.5
     r1 = (-c1 - sq) / (2.0 * c2)
     r2 = (-c1 + sq) / (2.0 * c2)
-    for r in (min(r1, r2), max(r1, r2)):
+    for r in (r2 if r2 < r1 else r1, r2 if r2 > r1 else r1):
         if lo < r <= hi:
             return r
     return best
@@ -129,7 +129,7 @@ def _late_start(j, over, h, b, graph, work):
     if t < 0.0:
         t = h
     a0 = start_accel(j, graph)
-    df = d1 - d2 * t + 2.0 * cb * max(t - tb, 0.0)  # F' at the join
+    df = d1 - d2 * t + 2.0 * cb * (t - tb if t - tb > 0.0 else 0.0)  # F' at the join
     jerk = df + friction_slope(j, 0.0, graph) * a0
     x = W[j, D] + t * t * (0.5 * a0 + t * jerk / 6.0)
     W[j, D] = x

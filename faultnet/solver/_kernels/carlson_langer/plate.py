@@ -63,7 +63,7 @@ def next_plate_join(h, w, state, graph, work):
         j = tree[1]
     hp = (keys[j] - w - W[plate_row(W), D]) / graph.nu
     if hp < h and IW[FLAG, j] != ACTIVE:
-        return max(hp, 0.0), j
+        return (hp if hp > 0.0 else 0.0), j
     return h, j - j - 1
 
 

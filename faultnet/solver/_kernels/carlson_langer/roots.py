@@ -107,7 +107,7 @@ def _first_critical(y0, m0, y1, m1):
             r = disc**0.5
             r1 = (-c1 - r) / (2.0 * c2)
             r2 = (-c1 + r) / (2.0 * c2)
-            lo, hi = min(r1, r2), max(r1, r2)
+            lo, hi = r2 if r2 < r1 else r1, r2 if r2 > r1 else r1
             best = lo if lo > 0.0 else hi
     if not (0.0 < best < 1.0):
         return 2.0

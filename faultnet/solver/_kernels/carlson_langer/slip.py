@@ -169,15 +169,15 @@ def integrate_interpolated(ev, nact, ntouch, w, state, ctrl, graph, work, record
         if who < 0:
             commit(nact, W, IW)
             t += h
-            h = min(dt, 2.0 * h)
+            h = 2.0 * h if 2.0 * h < dt else dt
         elif loc[LOC_NCAND] < 0.0:
             restore_positions(nact, W, IW)
-            h = max(dt * MIN_STEP, 0.5 * h)
+            h = 0.5 * h if 0.5 * h > dt * MIN_STEP else dt * MIN_STEP
         else:
             nact, ntouch, th_stop = interpolated_crossings(h, nact, ntouch, w, keys, graph, work)
             # the event ends at its last stop, not at the end of the step
             t += h if nact > 0 or th_stop <= 0.0 else th_stop * h
-            h = min(dt, 2.0 * h)
+            h = 2.0 * h if 2.0 * h < dt else dt
         if tracing:
             record_trace(ev, t, state, work, records)
         if t > ctrl[CTRL_MAX_DURATION] or nsteps > max_steps:
