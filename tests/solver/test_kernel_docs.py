@@ -67,32 +67,27 @@ def test_every_kernel_argument_is_documented(file, node, module_doc):
     assert missing == [], f"{file}:{node.name} does not document {missing}"
 
 
-@pytest.mark.parametrize("path", KERNEL_FILES, ids=lambda p: p.name)
-def test_no_constant_index_into_an_array_shape(path):
-    # kernels compile without Numba's rewrite passes (jit.py), so ``a.shape[0]`` would type
-    # through Numba's getitem overloads and compile a function of its own: ``len(a)``, or
-    # ``_, n = a.shape``
-    tree = ast.parse(path.read_text(encoding="utf-8"))
-    found = [
-        node.lineno
-        for node in ast.walk(tree)
-        if isinstance(node, ast.Subscript)
-        and isinstance(node.value, ast.Attribute)
-        and node.value.attr == "shape"
-    ]
-    assert found == []
+def _numba_compiles_apart(tree):
+    """Constructs for which Numba compiles a library of its own in kernels built without its
+    rewrite passes (jit.py): a constant index into an array's shape (``len(a)``, or
+    ``_, n = a.shape``, instead), and the builtins ``min``, ``max`` and ``int`` (compared, and
+    cast with ``np.int64``, instead), whose overloads compile per argument types and flags."""
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Subscript) and isinstance(node.value, ast.Attribute):
+            if node.value.attr == "shape":
+                yield node.lineno, "shape[...]"
+        elif isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+            if node.func.id in ("min", "max", "int"):
+                yield node.lineno, node.func.id
 
 
 @pytest.mark.parametrize("path", KERNEL_FILES, ids=lambda p: p.name)
-def test_no_min_max_or_int_builtins(path):
-    # Numba compiles its overloads of min, max and int once per argument types and compile
-    # flags, a library each (jit.py): the kernels compare, and cast with np.int64
+def test_no_construct_that_numba_compiles_apart(path):
     tree = ast.parse(path.read_text(encoding="utf-8"))
-    found = [
-        (node.lineno, node.func.id)
-        for node in ast.walk(tree)
-        if isinstance(node, ast.Call)
-        and isinstance(node.func, ast.Name)
-        and node.func.id in ("min", "max", "int")
-    ]
-    assert found == []
+    assert list(_numba_compiles_apart(tree)) == []
+
+
+def test_the_check_finds_those_constructs():
+    tree = ast.parse("def f(a, x, y):\n    return a.shape[0] + min(x, y) + max(x, y) + int(x)\n")
+    found = sorted(what for _, what in _numba_compiles_apart(tree))
+    assert found == ["int", "max", "min", "shape[...]"]
