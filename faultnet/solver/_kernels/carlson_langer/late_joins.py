@@ -46,7 +46,6 @@ from faultnet.solver._kernels.carlson_langer.work import (
     JOINING,
     LOC_MOVED,
     P2,
-    SA,
     STOPPING,
     STUCK,
     SV,
@@ -73,64 +72,49 @@ def refresh(b, graph, work):
             W[n, A] = accel(n, P, V, W, graph)
 
 
-@forced_kernel
-def _first_root(c0, c1, c2, lo, hi):
-    """Smallest root of c0 + c1 t + c2 t^2 in (lo, hi], or -1.0."""
-    best = -1.0
+@inline_kernel
+def _first_root(c0, c1, c2, hi):
+    """Smallest root of c0 + c1 t + c2 t^2 in (0, hi], or -1.0."""
     if c2 == 0.0:
-        if c1 != 0.0:
-            r = -c0 / c1
-            if lo < r <= hi:
-                best = r
-        return best
+        r = -c0 / c1 if c1 != 0.0 else -1.0
+        return r if 0.0 < r <= hi else -1.0
     disc = c1 * c1 - 4.0 * c2 * c0
     if disc < 0.0:
-        return best
+        return -1.0
     sq = disc**0.5
     r1 = (-c1 - sq) / (2.0 * c2)
     r2 = (-c1 + sq) / (2.0 * c2)
-    for r in (r2 if r2 < r1 else r1, r2 if r2 > r1 else r1):
-        if lo < r <= hi:
-            return r
-    return best
+    lo_r = r2 if r2 < r1 else r1
+    hi_r = r2 if r2 > r1 else r1
+    if 0.0 < lo_r <= hi:
+        return lo_r
+    return hi_r if 0.0 < hi_r <= hi else -1.0
 
 
 @kernel
-def _late_start(j, over, h, b, graph, work):
+def _late_start(j, over, h, graph, work):
     """Start block j, whose force is ``1 + over`` at the end of the step, where it crossed 1.
 
-    Its force passed the threshold only through the crossings' corrections, so the scan did
-    not place it.  Going back from the step's end by t, the force falls by
-    ``d1 t - d2 t^2 / 2`` (d1, d2 from its slipping neighbours' velocities and accelerations)
-    and, before the stop of neighbour b (``W[b, VS]``, ``-1``: none) by
-    ``k |a_b| (t - t_b)^2 / 2`` more (b's deceleration at its stop, ``W[b, SA]``; a force
-    rises monotonically in an event, so a join that the stop of b made appear happened before
-    that stop).  j crossed 1 at the first root (at most h back) and starts there on the
+    j stopped in the step, and its neighbours' moves after its stop brought its force back
+    over the threshold.  Going back from the step's end by t, the force falls by
+    ``d1 t - d2 t^2 / 2`` (d1, d2 from its slipping neighbours' velocities and accelerations
+    at the end).  j crossed 1 at the first root (at most h back) and starts there on the
     Taylor series of its path to the third power of the time since the join; starting it at
     rest at the step's end would make it join up to a whole step late.
     """
     W, IW, kval, indices = work.W, work.IW, graph.kval, graph.indices
     d1 = 0.0
     d2 = 0.0
-    cb = 0.0
     for p in range(graph.indptr[j], graph.indptr[j + 1]):
         n = indices[p]
         if IW[FLAG, n] == ACTIVE:
             d1 += kval[p] * W[n, V]
             d2 += kval[p] * W[n, A]
-        elif n == b and IW[FLAG, n] != ACTIVE:
-            cb = 0.5 * kval[p] * abs(W[b, SA])
-    tb = h
-    if cb > 0.0:
-        tb = (1.0 - W[b, VS]) * h
-    t = _first_root(over, -d1, 0.5 * d2, 0.0, tb)
-    if t < 0.0 and tb < h:  # before b's stop
-        t = _first_root(over - cb * tb * tb, 2.0 * cb * tb - d1, 0.5 * d2 - cb, tb, h)
+    t = _first_root(over, -d1, 0.5 * d2, h)
     if t < 0.0:
         t = h
     a0 = start_accel(j, graph)
-    df = d1 - d2 * t + 2.0 * cb * (t - tb if t - tb > 0.0 else 0.0)  # F' at the join
-    jerk = df + friction_slope(j, 0.0, graph) * a0
+    jerk = d1 - d2 * t + friction_slope(j, 0.0, graph) * a0  # F' at the join, and friction's
     x = W[j, D] + t * t * (0.5 * a0 + t * jerk / 6.0)
     W[j, D] = x
     W[j, P] = x
@@ -158,27 +142,18 @@ def _late_start(j, over, h, b, graph, work):
 
 
 @inline_kernel
-def _join_at_threshold(j, h, b, nact, ntouch, w, keys, graph, work):
-    """Activate touched stuck block j if its force is >= 1 (b: its crossing neighbour or -1).
-
-    Returns (nact, ntouch).
-    """
-    flag = work.IW[FLAG, j]
-    if flag != ACTIVE and flag != UNTOUCHED:
-        f = force(j, D, work.W, graph)
-        if f >= 1.0:
-            nact, ntouch = activate(j, nact, ntouch, w, keys, graph, work)
-            _late_start(j, f - 1.0, h, b, graph, work)
-    return nact, ntouch
-
-
-@inline_kernel
 def rejoin(b, h, nact, ntouch, w, keys, graph, work):
     """Block b stopped in the step; if its force at the step's end is >= 1 it slips again.
 
     Returns (nact, ntouch).
     """
-    return _join_at_threshold(b, h, b - b - 1, nact, ntouch, w, keys, graph, work)
+    flag = work.IW[FLAG, b]
+    if flag != ACTIVE and flag != UNTOUCHED:
+        f = force(b, D, work.W, graph)
+        if f >= 1.0:
+            nact, ntouch = activate(b, nact, ntouch, w, keys, graph, work)
+            _late_start(b, f - 1.0, h, graph, work)
+    return nact, ntouch
 
 
 @inline_kernel
