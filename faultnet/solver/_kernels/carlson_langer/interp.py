@@ -72,14 +72,18 @@ from faultnet.solver._kernels.carlson_langer.response import (
     stop_shift,
 )
 from faultnet.solver._kernels.carlson_langer.stepping import activate, deactivate, stick_scan
-from faultnet.solver._kernels.carlson_langer.tableau import KA, KV, slot_dense, stage_rows
+from faultnet.solver._kernels.carlson_langer.tableau import (
+    KA,
+    path_dense,
+    slot_dense,
+    stage_rows,
+)
 from faultnet.solver._kernels.carlson_langer.work import (
     ACT,
     ACTIVE,
     AN,
     APOS,
     CAND,
-    DN,
     FLAG,
     JOINING,
     LOC_MOVED,
@@ -113,8 +117,7 @@ def _stop(b, th, h, graph, work):
     b's acceleration at the stop in ``W[b, SA]`` (for ``late_joins``).
     """
     W, IW = work.W, work.IW
-    K = stage_rows(work)
-    c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, K, IW[APOS, b], KV, W[b, VN])
+    c0, c1, c2, c3, c4 = path_dense(b, h, work)
     xs = stop_position(b, th, h, graph, work) + stop_shift(b, th, h, graph, work)
     i1, i2, i3, i4 = stop_moments(xs, th, h, c0, c1, c2, c3, c4)
     W[b, SV] = xs
@@ -162,7 +165,7 @@ def _push(j, s, h, graph, work):
     on the Taylor series of its start) by ``e`` at s, and j's force is higher by ``k e``.
     Returns (the summed ``k e``, the earliest such crossing or s).
     """
-    W, IW, K = work.W, work.IW, stage_rows(work)
+    W, IW = work.W, work.IW
     indptr, indices, kval = graph.indptr, graph.indices, graph.kval
     dF = 0.0
     lo = s
@@ -175,7 +178,7 @@ def _push(j, s, h, graph, work):
         if tm >= s:
             continue
         if fl == STOPPING:
-            c0, c1, c2, c3, c4 = slot_dense(W[m, D], W[m, DN], h, K, IW[APOS, m], KV, W[m, VN])
+            c0, c1, c2, c3, c4 = path_dense(m, h, work)
             e = c1 * (tm - s) + c2 * (tm**2 - s**2) + c3 * (tm**3 - s**3)
             e += c4 * (tm**4 - s**4)
         else:

@@ -14,7 +14,7 @@ slips again (:func:`rejoin`), from where the force's expansion back from the end
 Arguments: ``h`` the step's length, ``b``, ``j``, ``n`` blocks, ``s`` a fraction of the step,
 ``nact``, ``ntouch``, ``ncand`` the lengths of the active, touched and crossing lists, ``w`` the
 plate position and ``keys`` the failure keys (for the blocks a join touches), ``W``, ``IW`` the
-work arrays and ``K`` their stage rows, ``graph`` and ``work`` the ``Graph`` and ``Work`` bundles
+work arrays, ``graph`` and ``work`` the ``Graph`` and ``Work`` bundles
 (:mod:`~faultnet.solver._kernels.bundles`).
 """
 
@@ -34,11 +34,10 @@ from faultnet.solver._kernels.carlson_langer.response import (
     stop_answer,
 )
 from faultnet.solver._kernels.carlson_langer.stepping import activate, touch
-from faultnet.solver._kernels.carlson_langer.tableau import KV, slot_dense, stage_rows
+from faultnet.solver._kernels.carlson_langer.tableau import path_dense
 from faultnet.solver._kernels.carlson_langer.work import (
     ACTIVE,
     AN,
-    APOS,
     CAND,
     DN,
     FLAG,
@@ -157,18 +156,19 @@ def rejoin(b, h, nact, ntouch, w, keys, graph, work):
 
 
 @inline_kernel
-def _offset(n, s, h, K, W, IW):
+def _offset(n, s, h, work):
     """Displacement of block n at fraction s of the step since the step's start, on its path.
 
     Slipping: the step's dense output; stopping: the same up to its stop (``W[n, VS]``), then
     its stop position ``W[n, SV]``; joining: the cubic of :func:`~.response.
     neighbour_poly` from its join on; stuck: 0.
     """
-    fl = IW[FLAG, n]
+    W = work.W
+    fl = work.IW[FLAG, n]
     if fl == ACTIVE or fl == STOPPING:
         if fl == STOPPING and s > W[n, VS]:
             return W[n, SV] - W[n, D]
-        _, c1, c2, c3, c4 = slot_dense(W[n, D], W[n, DN], h, K, IW[APOS, n], KV, W[n, VN])
+        _, c1, c2, c3, c4 = path_dense(n, h, work)
         return s * (c1 + s * (c2 + s * (c3 + s * c4)))
     if fl == JOINING:
         return join_cubic(n, s, h, W)
@@ -181,8 +181,7 @@ def _late_theta(j, h, graph, work):
 
     The force only rises during an event: bisection on ``[0, 1]`` to 2^-40.
     """
-    W, IW = work.W, work.IW
-    K = stage_rows(work)
+    W = work.W
     f0 = force(j, D, W, graph) - 1.0
     if f0 >= 0.0:
         return 0.0
@@ -191,7 +190,7 @@ def _late_theta(j, h, graph, work):
         mid = 0.5 * (lo + hi)
         f = f0
         for p in range(graph.indptr[j], graph.indptr[j + 1]):
-            f += graph.kval[p] * _offset(graph.indices[p], mid, h, K, W, IW)
+            f += graph.kval[p] * _offset(graph.indices[p], mid, h, work)
         if f >= 0.0:
             hi = mid
         else:
@@ -209,7 +208,6 @@ def _late_join(j, h, graph, work):
     neighbour of a crossing, this rarely.
     """
     W, IW = work.W, work.IW
-    K = stage_rows(work)
     th = _late_theta(j, h, graph, work)
     IW[FLAG, j] = JOINING
     W[j, VS] = th
@@ -217,7 +215,7 @@ def _late_join(j, h, graph, work):
     for p in range(graph.indptr[j], graph.indptr[j + 1]):
         b = graph.indices[p]
         if IW[FLAG, b] == STOPPING:
-            c0, c1, c2, c3, c4 = slot_dense(W[b, D], W[b, DN], h, K, IW[APOS, b], KV, W[b, VN])
+            c0, c1, c2, c3, c4 = path_dense(b, h, work)
             stop_answer(j, graph.kval[p], W[b, SV], W[b, VS], h, c0, c1, c2, c3, c4, graph, work)
 
 

@@ -47,10 +47,9 @@ answer above from overcorrecting: its error is of the same order).
 import numpy as np
 
 from faultnet.solver._kernels.carlson_langer.physics import force, friction_slope, lone_path
-from faultnet.solver._kernels.carlson_langer.tableau import KV, slot_dense, stage_rows
+from faultnet.solver._kernels.carlson_langer.tableau import path_dense
 from faultnet.solver._kernels.carlson_langer.work import (
     ACTIVE,
-    APOS,
     DN,
     FLAG,
     JOINING,
@@ -204,7 +203,6 @@ def stop_shift(b, th, h, graph, work):
     moves by b's answer (:func:`answer`) to those path differences up to th.
     """
     W, IW = work.W, work.IW
-    K = stage_rows(work)
     shift = 0.0
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         m = graph.indices[p]
@@ -214,7 +212,7 @@ def stop_shift(b, th, h, graph, work):
         t0 = W[m, VS]
         c0 = c1 = c2 = c3 = c4 = 0.0
         if fl == STOPPING:  # a joining block is stuck: no stage row of its own
-            c0, c1, c2, c3, c4 = slot_dense(W[m, D], W[m, DN], h, K, IW[APOS, m], KV, W[m, VN])
+            c0, c1, c2, c3, c4 = path_dense(m, h, work)
         half = 0.5 * (th - t0)
         j1 = j2 = j3 = j4 = 0.0
         for g in range(4):
@@ -264,13 +262,12 @@ def neighbour_poly(b, h, th, graph, work):
     their join (``W[m, VS]``) to that end.  The constant term is left out: it cancels.
     """
     W, IW = work.W, work.IW
-    K = stage_rows(work)
     g1 = g2 = g3 = g4 = 0.0
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         n = graph.indices[p]
         k = graph.kval[p]
         if IW[FLAG, n] == ACTIVE or IW[FLAG, n] == STOPPING:
-            _, c1, c2, c3, c4 = slot_dense(W[n, D], W[n, DN], h, K, IW[APOS, n], KV, W[n, VN])
+            _, c1, c2, c3, c4 = path_dense(n, h, work)
             g1 += k * c1
             g2 += k * c2
             g3 += k * c3

@@ -2,9 +2,10 @@
 
 import numpy as np
 
+from faultnet.solver._kernels.carlson_langer.work import APOS, DN, VN, D
 from faultnet.solver._kernels.jit import inline_kernel, kernel
 
-__all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "slot_dense", "stage_rows"]
+__all__ = ["KA", "KV", "N_STAGE", "dense_coeffs", "path_dense", "slot_dense", "stage_rows"]
 
 # The stage derivatives of the block at active position q are row N + q of the work array
 # ``work.W`` (float64[2 N + 2, N_WORK]), below the N blocks' own rows: a block's row then fits in
@@ -60,3 +61,16 @@ def stage_rows(work):
     """
     _, n = work.IW.shape
     return work.W[n : 2 * n]
+
+
+@kernel
+def path_dense(n, h, work):
+    """:func:`dense_coeffs` of the position of block n over the step of length ``h`` just taken.
+
+    From its start and end positions (``D``, ``DN``), its stage velocities and its end
+    velocity (``VN``): the path of a slipping block, or of a stopping one up to its stop.
+    ``work``: the ``Work`` bundle.  One kernel for the crossings' many call sites, each of
+    which would otherwise hold the seven arguments' reads again.
+    """
+    W = work.W
+    return slot_dense(W[n, D], W[n, DN], h, stage_rows(work), work.IW[APOS, n], KV, W[n, VN])
