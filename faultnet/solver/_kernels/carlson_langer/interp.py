@@ -179,8 +179,9 @@ def _push(j, s, h, graph, work):
             continue
         if fl == STOPPING:
             c0, c1, c2, c3, c4 = path_dense(m, h, work)
-            e = c1 * (tm - s) + c2 * (tm**2 - s**2) + c3 * (tm**3 - s**3)
-            e += c4 * (tm**4 - s**4)
+            t2, s2 = tm * tm, s * s
+            e = c1 * (tm - s) + c2 * (t2 - s2) + c3 * (tm * t2 - s * s2)
+            e += c4 * (t2 * t2 - s2 * s2)
         else:
             a0, jerk, snap = _start_rates(m, tm, h, graph, work)
             t = (s - tm) * h

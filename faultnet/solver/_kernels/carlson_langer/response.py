@@ -227,7 +227,8 @@ def stop_shift(b, th, h, graph, work):
             j2 += u * d
             j3 += 0.5 * u * u * d
             j4 += u * u * u / 6.0 * d
-        i1, i2, i3, i4 = h * j1, h * h * j2, h**3 * j3, h**4 * j4
+        h2 = h * h
+        i1, i2, i3, i4 = h * j1, h2 * j2, h * h2 * j3, h2 * h2 * j4
         _, dx = answer(b, graph.kval[p], 0.5 * W[b, V], i1, i2, i3, i4, graph)
         shift += dx
     return shift
@@ -249,7 +250,8 @@ def stop_moments(xs, th, h, c0, c1, c2, c3, c4):
         j2 += u * d
         j3 += 0.5 * u * u * d
         j4 += u * u * u / 6.0 * d
-    return h * j1, h * h * j2, h**3 * j3, h**4 * j4
+    h2 = h * h
+    return h * j1, h2 * j2, h * h2 * j3, h2 * h2 * j4
 
 
 @kernel
@@ -327,8 +329,9 @@ def stop_position(b, th, h, graph, work):
     W = work.W
     g1, g2, g3, g4 = neighbour_poly(b, h, -1.0, graph, work)
     r = 1.0 / h
+    r2 = r * r
     a = lone_path(
-        b, W[b, V], force(b, D, W, graph), g1 * r, g2 * r * r, g3 * r**3, g4 * r**4, graph
+        b, W[b, V], force(b, D, W, graph), g1 * r, g2 * r * r, g3 * (r * r2), g4 * (r2 * r2), graph
     )
     x, _ = _at(th * h, a)
     return W[b, D] + x
@@ -346,10 +349,11 @@ def join_path(j, th, h, graph, work):
     g1, g2, g3, g4 = neighbour_poly(j, h, th, graph, work)
     # G(s) re-expanded about th, in the time since the join; the force is 1 there
     r = 1.0 / h
+    r2 = r * r
     p1 = (g1 + th * (2.0 * g2 + th * (3.0 * g3 + th * 4.0 * g4))) * r
     p2 = (g2 + th * (3.0 * g3 + th * 6.0 * g4)) * r * r
-    p3 = (g3 + th * 4.0 * g4) * r**3
-    a = lone_path(j, 0.0, 1.0, p1, p2, p3, g4 * r**4, graph)
+    p3 = (g3 + th * 4.0 * g4) * (r * r2)
+    a = lone_path(j, 0.0, 1.0, p1, p2, p3, g4 * (r2 * r2), graph)
     T = (1.0 - th) * h
     x, v = _at(T, a)
     m = _FIRST
