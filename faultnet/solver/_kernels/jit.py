@@ -20,7 +20,9 @@ which otherwise compile a function per tuple type; so the kernels write ``len(a)
 of them once per argument types and compile flags, a library each (nine in a lattice run), so
 the kernels compare (``b if b < a else a`` is what Numba's ``min(a, b)`` computes) and cast
 with ``np.int64``: 0.69 s less cold compile over four alternating rounds, the same catalogs.
-``tests/solver/test_kernel_docs.py`` keeps both out.
+``tests/solver/test_kernel_docs.py`` keeps both out.  Integer powers are written as the
+products Numba's power loop forms (``x * (x * x)`` for ``x**3``), which without the rewrites
+is a loop at run time.
 
 Which helpers are inlined by Numba (:data:`inline_kernel`) and which are kernels of their
 own (:data:`kernel`, :data:`forced_kernel`) is a trade between compile time and speed,
