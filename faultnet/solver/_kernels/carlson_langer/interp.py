@@ -113,8 +113,7 @@ def _stop(b, th, h, graph, work):
 
     The position is :func:`.response.stop_position`, moved by b's answer to
     its neighbours' earlier crossings (``stop_shift``), kept in ``W[b, SV]`` (and ``P2``, the
-    end positions) until the commit; b's own end values stay, for its dense output.  Keeps
-    b's acceleration at the stop in ``W[b, SA]`` (for ``late_joins``).
+    end positions) until the commit; b's own end values stay, for its dense output.
     """
     W, IW = work.W, work.IW
     c0, c1, c2, c3, c4 = path_dense(b, h, work)
@@ -123,7 +122,6 @@ def _stop(b, th, h, graph, work):
     W[b, SV] = xs
     work.loc[LOC_MOVED] += abs(xs - W[b, P2])
     W[b, P2] = xs
-    W[b, SA] = (2.0 * c2 + th * (6.0 * c3 + th * 12.0 * c4)) / (h * h)  # a at the stop
     respond(b, -1.0, i1, i2, i3, i4, BEFORE_COMMIT, graph, work)
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         m = graph.indices[p]

@@ -74,10 +74,10 @@ __all__ = [
 # float work columns of W: the committed state (D, V, A), the step's end (DN, VN, AN), the
 # stage positions (P, P2), the force at the start of the event (F0); the interpolated
 # crossings keep a crossing's fraction of the step in VS, a join's path end in SV and SA, a
-# stop's position in SV and its deceleration in SA (:mod:`.interp`).  Viscous models keep
-# the stage velocities of P and P2 in Q and Q2, the same columns as SV and SA: they take the
-# exact crossings, which never use SV and SA (two more columns cost the lattices 20% of
-# their events/s: a block's row stays 96 bytes).
+# stop's position in SV (:mod:`.interp`).  Viscous models keep the stage velocities of P and
+# P2 in Q and Q2, the same columns as SV and SA: they take the exact crossings, which never
+# use SV and SA (two more columns cost the lattices 20% of their events/s: a block's row
+# stays 96 bytes).
 # The velocities at the instant of a position column (D with V, P with Q, P2 with Q2, DN with
 # VN) are what the viscous force reads (:func:`velocities`); the columns keep the order the
 # stage passes were measured with (``benchmarks/README.md``).
