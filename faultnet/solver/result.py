@@ -133,8 +133,10 @@ class SimulationResult:
         actually done in this call), ``solo_events`` (events taken from a
         cached solo slip, which cost no integration), the part of
         ``block_steps`` spent in partial steps to crossings and their polish
-        (``partial_block_steps``) and ``interpolated_crossings`` (stops and
-        joins placed on a step's dense output).
+        (``partial_block_steps``), ``interpolated_crossings`` (stops and
+        joins placed on a step's dense output) and ``retaken_steps`` (steps
+        taken again because those crossings pushed a block over the threshold
+        or a block stopped and started again within the step).
     """
 
     events: pd.DataFrame

@@ -16,6 +16,7 @@ from faultnet.exceptions import EventTooLongError, NumericalInstabilityError
 from faultnet.solver._kernels.layout import (
     CNT_INTERPOLATED_CROSSINGS,
     CNT_PARTIAL_BLOCK_STEPS,
+    CNT_RETAKEN_STEPS,
     CNT_SOLO_EVENTS,
     CNT_TRACE_FULL,
     CNT_TRACE_ROWS,
@@ -55,6 +56,7 @@ _COUNTERS = {
     "solo_events": CNT_SOLO_EVENTS,
     "partial_block_steps": CNT_PARTIAL_BLOCK_STEPS,
     "interpolated_crossings": CNT_INTERPOLATED_CROSSINGS,
+    "retaken_steps": CNT_RETAKEN_STEPS,
 }
 
 

@@ -40,9 +40,9 @@ on events/s (``benchmarks/README.md``):
   helper's statements again, and each of its ``return`` statements became a tuple and an
   assignment in the caller (1,100 IR statements of the lattice run's 16,835, the same
   events/s); what such a helper rarely does is a kernel of its own, so that the copies hold
-  only the common path (the late joins' check calls the join it finds: with the join
-  inlined, each of the check's two copies held 812 IR statements, and the ring of 2000 ran
-  3-6% fewer events/s);
+  only the common path (the late joins' check lists the join it finds through a kernel: with
+  a join's placement inlined there, each of the check's two copies held 812 IR statements,
+  and the ring of 2000 ran 3-6% fewer events/s);
 - a helper with one call site is typed once either way, and inlined by Numba it needs no
   library of its own (each library costs its own LLVM module passes and machine code, and
   is linked into its callers' again): a helper called once from a kernel is inlined (0.4 s,

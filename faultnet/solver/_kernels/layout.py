@@ -32,6 +32,7 @@ __all__ = [
     "CNT_INTERPOLATED_CROSSINGS",
     "CNT_PARTIAL_BLOCK_STEPS",
     "CNT_RELOCATIONS",
+    "CNT_RETAKEN_STEPS",
     "CNT_SIZE",
     "CNT_SLIP_ROWS",
     "CNT_SOLO_EVENTS",
@@ -111,7 +112,8 @@ CNT_RELOCATIONS = 7  #: an earlier crossing found inside a partial step
 CNT_SOLO_EVENTS = 8  #: events taken from a cached solo slip
 CNT_STAMPS = 9  #: tag counter of the steps' scans (never reset)
 CNT_INTERPOLATED_CROSSINGS = 10  #: stops and joins placed on a step's dense output
-CNT_SIZE = 11
+CNT_RETAKEN_STEPS = 11  #: interpolated steps taken again (a revealed join, a stop and restart)
+CNT_SIZE = 12
 
 OUT_T = 0  #: plate time of the last event's start
 OUT_DURATION = 1  #: its duration

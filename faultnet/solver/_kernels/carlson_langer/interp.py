@@ -28,20 +28,20 @@ stops:
   :func:`~.response.stop_answer`).
 
 Then, still before the commit, every stuck block next to a crossing block, or next to one of
-its slipping (corrected) neighbours, whose force at the end of the step has reached 1 joins
-(nothing else has moved since the step's scan listed the joins): it starts where its force
-on its neighbours' paths reached 1 (:func:`.late_joins.late_joins`), and its
-own neighbours are scanned in turn.  Each crossing costs a few passes over a handful of
-blocks instead of a partial step.  The neglected terms are the second-order answer of the
-neighbours (and of theirs) and the dense output's error: the S error of an event grows like
-``dt^4`` per crossing, against ``dt^5`` for the exact treatment (``faultnet.solver.accuracy``
-calibrates which to use for a given rtol).  Placing the chained and revealed joins on the
-neighbours' paths is what keeps large events accurate: with one Newton step from the dense
-output's root for chained joins, revealed joins started back from the step's end on a
-Taylor expansion of the force and stops placed in the order of the list, the worst of 150
-events on the triangular critical cluster was off by 9e-2 at coefficient 0.6 (now 7e-5), and
-the 90th percentile over all of them was twice as large (2.2e-5 against 1.1e-5; on the
-periodic 150^2 lattice 2.9e-5 against 7.0e-6).
+its slipping (corrected) neighbours, whose force at the end of the step has reached 1 is a
+join the crossings revealed (nothing else has moved since the step's scan listed the joins):
+the step is taken again with it listed, as a join that its neighbours' crossings push
+(:mod:`.late_joins`).  Each crossing costs a few passes over a handful of blocks instead of
+a partial step.  The neglected terms are the second-order answer of the neighbours (and of
+theirs) and the dense output's error: the S error of an event grows like ``dt^4`` per
+crossing, against ``dt^5`` for the exact treatment (``faultnet.solver.accuracy`` calibrates
+which to use for a given rtol).  Placing the chained and revealed joins on the neighbours'
+paths is what keeps large events accurate: with one Newton step from the dense output's root
+for chained joins, revealed joins started back from the step's end on a Taylor expansion of
+the force and stops placed in the order of the list, the worst of 150 events on the
+triangular critical cluster was off by 9e-2 at coefficient 0.6 (now 7e-5), and the 90th
+percentile over all of them was twice as large (2.2e-5 against 1.1e-5; on the periodic
+150^2 lattice 2.9e-5 against 7.0e-6).
 
 Arguments: ``h`` the step's length, ``th`` a fraction of it, ``b``, ``j`` blocks, ``nact``,
 ``ntouch`` the lengths of the active and touched lists, ``ncand`` the crossings listed in
@@ -53,7 +53,12 @@ dropped), ``w`` the plate position, ``keys`` the failure keys (for the blocks a 
 import numpy as np
 
 from faultnet.solver._kernels.carlson_langer.crossing import join_theta, stick_theta
-from faultnet.solver._kernels.carlson_langer.late_joins import late_joins, refresh, rejoin
+from faultnet.solver._kernels.carlson_langer.late_joins import (
+    late_joins,
+    refresh,
+    rejoin,
+    take_again,
+)
 from faultnet.solver._kernels.carlson_langer.physics import (
     accel,
     force,
@@ -71,6 +76,7 @@ from faultnet.solver._kernels.carlson_langer.response import (
     stop_position,
     stop_shift,
 )
+from faultnet.solver._kernels.carlson_langer.roots import poly_root
 from faultnet.solver._kernels.carlson_langer.stepping import activate, deactivate, stick_scan
 from faultnet.solver._kernels.carlson_langer.tableau import (
     KA,
@@ -86,8 +92,11 @@ from faultnet.solver._kernels.carlson_langer.work import (
     CAND,
     FLAG,
     JOINING,
+    LOC_LATE,
     LOC_MOVED,
     LOC_NCAND,
+    LOC_NLATE,
+    LOC_REVEALED,
     LOC_THETA,
     P2,
     SA,
@@ -193,11 +202,14 @@ def _push(j, s, h, graph, work):
 def _chained(j, th, h, graph, work):
     """The fraction at which stuck block j joins, given its neighbours' crossings before th.
 
-    j's force on the dense output reaches 1 at th.  Pushed by neighbours that joined before
-    (:func:`_push`), it reaches 1 earlier: at the root of the dense force plus the push
-    between the earliest such join and th (regula falsi, Illinois variant; the push grows
-    like the cube of the time since a neighbour's join, so one Newton step from th
-    overshoots).  Held back by a neighbour's stop, it joins later by one Newton step.
+    j's force on the dense output reaches 1 at th (a join the crossings revealed: th = 1, with
+    their pushes).  Pushed by neighbours that joined before (:func:`_push`), it reaches 1
+    earlier: at the root of the dense force plus the push between the earliest such join and
+    th (regula falsi, Illinois variant; the push grows like the cube of the time since a
+    neighbour's join, so one Newton step from th overshoots), or at the dense force's own
+    root if that comes before the first push (a force that rose above 1 and fell back inside
+    the step, which the scan, reading the step's end, did not list).  Held back by a
+    neighbour's stop, it joins later by one Newton step.
     """
     dF, lo = _push(j, th, h, graph, work)
     if dF == 0.0:
@@ -213,8 +225,10 @@ def _chained(j, th, h, graph, work):
     f0 = force(j, D, work.W, graph) - 1.0
     a, fa = lo, f0 + lo * (g1 + lo * (g2 + lo * (g3 + lo * g4)))
     b, fb = th, f0 + th * (g1 + th * (g2 + th * (g3 + th * g4))) + dF
-    if fa >= 0.0 or fb <= 0.0:
-        return lo if fa >= 0.0 else th
+    if fa >= 0.0:  # its force reached 1 before the first push: on the dense output alone
+        return poly_root(0.0, lo, f0, g1, g2, g3, g4)
+    if fb <= 0.0:
+        return th
     side = 0
     for _ in range(30):
         c = (a * fb - b * fa) / (fb - fa)
@@ -305,16 +319,26 @@ def _order(ncand, work):
 
 
 @kernel
-def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
+def interpolated_crossings(h, h_min, nact, ntouch, w, keys, graph, work):
     """Apply every crossing the step's scan listed (``IW[CAND]``) at the step's end; commit.
 
     Called after a DP5 step of length h with ``scan == 2`` (the list complete:
-    ``loc[LOC_NCAND] >= 0``).  Returns (nact, ntouch, th_stop): ``th_stop`` is the
-    latest stop's fraction of the step (0.0 if none stopped), the event's end when
-    no block is left slipping.
+    ``loc[LOC_NCAND] >= 0``).  The joins that an earlier take of the same step revealed
+    (:mod:`.late_joins`) are listed after the scan's crossings.  Returns (nact, ntouch,
+    th_stop): ``th_stop`` is the latest stop's fraction of the step (0.0 if none stopped),
+    the event's end when no block is left slipping, or -1.0 if the crossings revealed more
+    joins: nothing is committed, and the step is to be taken again; -2.0 if a block that
+    stopped in the step is over the threshold at its end (it slips again) and the step is
+    longer than ``h_min``: nothing is committed, and the step is to be taken again at half
+    its length, until the stop and the new start fall in different steps.
     """
     W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
     ncand = np.int64(loc[LOC_NCAND])
+    for k in range(np.int64(loc[LOC_NLATE])):
+        IW[CAND, ncand] = np.int64(loc[LOC_LATE + k])
+        loc[LOC_THETA + ncand] = 1.0  # its force reaches 1 within the step (_chained)
+        ncand += 1
+    loc[LOC_REVEALED] = 0.0
     th_stop = 0.0
     _locate(h, ncand, graph, work)
     for c in range(ncand):
@@ -332,7 +356,17 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
             th_stop = th if th > th_stop else th_stop
         elif e >= 0:
             place_join(e, W[e, VS], h, graph, work)
-    ncand, ntouch = late_joins(h, ncand, ntouch, w, keys, graph, work)
+    ncand, ntouch = late_joins(ncand, ntouch, w, keys, graph, work)
+    if loc[LOC_REVEALED] != 0.0:
+        take_again(ncand, work)
+        return nact, ntouch, -1.0
+    if h > h_min:
+        for c in range(ncand):
+            e = IW[CAND, c]
+            if e <= -2 and force(-2 - e, P2, W, graph) >= 1.0:
+                take_again(ncand, work)
+                return nact, ntouch, -2.0
+    loc[LOC_NLATE] = 0.0
     # commit the step (P2: every block's end position), then stops, joins and the
     # accelerations they change
     for q in range(nact):
@@ -366,6 +400,6 @@ def interpolated_crossings(h, nact, ntouch, w, keys, graph, work):
     for c in range(ncand):
         e = IW[CAND, c]
         if e <= -2:
-            nact, ntouch = rejoin(-2 - e, h, nact, ntouch, w, keys, graph, work)
+            nact, ntouch = rejoin(-2 - e, nact, ntouch, w, keys, graph, work)
     nact = stick_scan(nact, W, IW)
     return nact, ntouch, th_stop
