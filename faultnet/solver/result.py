@@ -134,9 +134,10 @@ class SimulationResult:
         cached solo slip, which cost no integration), the part of
         ``block_steps`` spent in partial steps to crossings and their polish
         (``partial_block_steps``), ``interpolated_crossings`` (stops and
-        joins placed on a step's dense output) and ``retaken_steps`` (steps
-        taken again because those crossings pushed a block over the threshold
-        or a block stopped and started again within the step).
+        joins placed on a step's dense output), ``revealed_joins`` (joins that
+        those crossings pushed over the threshold) and ``retaken_steps`` (steps
+        taken again at half their length because a block stopped and started
+        again within them).
     """
 
     events: pd.DataFrame

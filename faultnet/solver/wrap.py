@@ -17,6 +17,7 @@ from faultnet.solver._kernels.layout import (
     CNT_INTERPOLATED_CROSSINGS,
     CNT_PARTIAL_BLOCK_STEPS,
     CNT_RETAKEN_STEPS,
+    CNT_REVEALED_JOINS,
     CNT_SOLO_EVENTS,
     CNT_TRACE_FULL,
     CNT_TRACE_ROWS,
@@ -56,6 +57,7 @@ _COUNTERS = {
     "solo_events": CNT_SOLO_EVENTS,
     "partial_block_steps": CNT_PARTIAL_BLOCK_STEPS,
     "interpolated_crossings": CNT_INTERPOLATED_CROSSINGS,
+    "revealed_joins": CNT_REVEALED_JOINS,
     "retaken_steps": CNT_RETAKEN_STEPS,
 }
 

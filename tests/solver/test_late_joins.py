@@ -1,11 +1,11 @@
 """Joins revealed by the crossings of an interpolated step (``carlson_langer.late_joins``).
 
 A stuck block that a step's crossings push over the threshold crossed it inside the step,
-where the step's scan did not list it.  The step is taken again with the block listed as a
-join (``take_again`` undoes the crossings first); where the list is full, the block starts
-from rest at the end of the step.  A block that stops and is over the threshold again at the
-end of the step has the step taken again at half its length.  The events in which this
-happens are the large ones, and they stay as accurate as the others.
+where the step's scan did not list it: it is appended to the crossings (``_reveal``) and
+placed where its force on its neighbours' paths reaches 1.  A block that stops and is over
+the threshold again at the end of the step has the step taken again at half its length
+(``take_again`` undoes the crossings first).  The events in which this happens are the
+large ones, and they stay as accurate as the others.
 """
 
 import numba as nb
@@ -20,11 +20,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     FLAG,
     FRONTIER,
     JOINING,
-    LATE_CAP,
-    LOC_LATE,
     LOC_NCAND,
-    LOC_NLATE,
-    LOC_REVEALED,
     LOC_SIZE,
     N_IWORK,
     N_WORK,
@@ -36,7 +32,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     VS,
     D,
 )
-from faultnet.solver._kernels.layout import CNT_SIZE
+from faultnet.solver._kernels.layout import CNT_REVEALED_JOINS, CNT_SIZE
 from faultnet.solver.step_size import omega2_max
 
 
@@ -76,32 +72,32 @@ def test_take_again_undoes_the_crossings():
     assert W[1, P2] == 0.25 and W[2, P2] == 0.0
 
 
-def test_reveal_lists_the_blocks_for_the_next_take_until_the_list_is_full():
-    """Each revealed block is appended as a join at rest at the end of the step; the first
-    LATE_CAP are also listed for the step's next take."""
-    n = LATE_CAP + 3
-    W, IW = _arrays(n)
+def test_reveal_appends_a_join_at_rest_at_the_end_of_the_step():
+    """Each revealed block is appended to the crossings as a join at the step's end, at rest,
+    until it is placed; the work counter counts it."""
+    W, IW = _arrays(6)
     loc = np.zeros(LOC_SIZE)
     cnt = np.zeros(CNT_SIZE, dtype=np.int64)
     loc[LOC_NCAND] = 2.0  # the scan listed two crossings
-    IW[CAND, :2] = (-2 - (n - 1), n - 2)
-    blocks = np.arange(LATE_CAP + 1, dtype=np.int64)
-    assert _reveal_all(blocks, W, IW, loc, cnt) == 2 + LATE_CAP + 1
-    assert list(IW[CAND, 2 : 3 + LATE_CAP]) == list(blocks)
+    IW[CAND, :2] = (-2 - 5, 4)
+    W[:3, SV] = W[:3, SA] = 0.5
+    blocks = np.arange(3, dtype=np.int64)
+    assert _reveal_all(blocks, W, IW, loc, cnt) == 5
+    assert list(IW[CAND, :5]) == [-2 - 5, 4, 0, 1, 2]
     assert (IW[FLAG, blocks] == JOINING).all()
     assert (W[blocks, VS] == 1.0).all() and (W[blocks, SV] == 0.0).all()
     assert (W[blocks, SA] == 0.0).all()
-    assert loc[LOC_NLATE] == LATE_CAP and loc[LOC_REVEALED] == 1.0
-    assert list(loc[LOC_LATE : LOC_LATE + LATE_CAP]) == list(blocks[:LATE_CAP])
+    assert cnt[CNT_REVEALED_JOINS] == 3
 
 
-def _retaking_events(model, count, options=None):
-    """Pre-event states of ``count`` events with a step taken again, after a transient."""
+def _events_with(counter, model, count, options=None):
+    """Pre-event states of the first ``count`` events whose work ``counter`` is not 0, after a
+    transient."""
     state = faultnet.simulate(model, 3000, rng=7, progress=False, options=options).state
     states = []
     while len(states) < count:
         res = faultnet.simulate(model, 1, x0=state, progress=False, options=options)
-        if res.metadata["retaken_steps"] > 0:
+        if res.metadata[counter] > 0:
             states.append(state)
         state = res.state
     return states
@@ -120,27 +116,26 @@ def _errors(model, states, options=None):
 
 
 def test_events_with_revealed_joins_are_accurate():
-    """On the periodic 12^2 lattice at the default rtol (1e-6), 20 events with a step taken
-    again (26-121 blocks, nearly all for joins that crossings revealed).  Measured: 90th
-    percentile 1.4e-6, worst 1.1e-5 over 40 such events, the same as placing the revealed
-    joins by bisection on the neighbours' paths.  A revealed join placed at the first push of
+    """On the periodic 12^2 lattice at the default rtol (1e-6), 20 events with joins that the
+    crossings revealed (26-121 blocks).  Measured over 40 such events: 90th percentile
+    2.8e-6, worst 6.3e-6; over another 40, 1.4e-6 and 1.2e-5, as with the revealed joins
+    placed by bisection on the neighbours' paths.  A revealed join placed at the first push of
     its neighbours rather than where its force reached 1 on the dense output made one of
     these events 2.7e-3 off."""
     g = faultnet.graphs.square_lattice(12, 12, periodic=True)
     model = faultnet.CarlsonLanger(g, k=16, sigma=0.01, alpha=1.0)
-    err = _errors(model, _retaking_events(model, 20))
+    err = _errors(model, _events_with("revealed_joins", model, 20))
     assert np.quantile(err, 0.9) <= 5e-6, err
     assert err.max() <= 1e-4, err
 
 
 def test_a_stop_and_a_new_start_in_one_step_are_accurate():
     """On a ring of 200 at the long step of coefficient 0.5 (the statistics level's), 24
-    events with a step taken again, among them blocks that stop and start again within one
-    step.  Measured: 90th percentile 2.6e-5, worst 4.0e-4 (as with such a block started on
-    the Taylor series of its force back from the step's end); started from rest at the end
-    of the step instead, 3.9e-4 and 1.3e-3."""
+    events with a step taken again at half its length: a block stopped and started again
+    within it.  Measured: 90th percentile 3.1e-5, worst 4.8e-5; with such a block started
+    from rest at the end of the full step instead, 1.3e-3 and 4.4e-3."""
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(200), k=16, sigma=0.01, alpha=1.0)
     opts = faultnet.RunOptions(dt=0.5 / omega2_max(model) ** 0.5, crossings="interpolated")
-    err = _errors(model, _retaking_events(model, 24, opts), opts)
+    err = _errors(model, _events_with("retaken_steps", model, 24, opts), opts)
     assert np.quantile(err, 0.9) <= 1e-4, err
     assert err.max() <= 1e-3, err

@@ -33,6 +33,7 @@ __all__ = [
     "CNT_PARTIAL_BLOCK_STEPS",
     "CNT_RELOCATIONS",
     "CNT_RETAKEN_STEPS",
+    "CNT_REVEALED_JOINS",
     "CNT_SIZE",
     "CNT_SLIP_ROWS",
     "CNT_SOLO_EVENTS",
@@ -112,8 +113,9 @@ CNT_RELOCATIONS = 7  #: an earlier crossing found inside a partial step
 CNT_SOLO_EVENTS = 8  #: events taken from a cached solo slip
 CNT_STAMPS = 9  #: tag counter of the steps' scans (never reset)
 CNT_INTERPOLATED_CROSSINGS = 10  #: stops and joins placed on a step's dense output
-CNT_RETAKEN_STEPS = 11  #: interpolated steps taken again (a revealed join, a stop and restart)
-CNT_SIZE = 12
+CNT_RETAKEN_STEPS = 11  #: interpolated steps taken again at half length (a stop and restart)
+CNT_REVEALED_JOINS = 12  #: joins that a step's interpolated crossings revealed
+CNT_SIZE = 13
 
 OUT_T = 0  #: plate time of the last event's start
 OUT_DURATION = 1  #: its duration

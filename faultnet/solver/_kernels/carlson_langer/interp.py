@@ -30,18 +30,18 @@ stops:
 Then, still before the commit, every stuck block next to a crossing block, or next to one of
 its slipping (corrected) neighbours, whose force at the end of the step has reached 1 is a
 join the crossings revealed (nothing else has moved since the step's scan listed the joins):
-the step is taken again with it listed, as a join that its neighbours' crossings push
-(:mod:`.late_joins`).  Each crossing costs a few passes over a handful of blocks instead of
-a partial step.  The neglected terms are the second-order answer of the neighbours (and of
-theirs) and the dense output's error: the S error of an event grows like ``dt^4`` per
-crossing, against ``dt^5`` for the exact treatment (``faultnet.solver.accuracy`` calibrates
-which to use for a given rtol).  Placing the chained and revealed joins on the neighbours'
-paths is what keeps large events accurate: with one Newton step from the dense output's root
-for chained joins, revealed joins started back from the step's end on a Taylor expansion of
-the force and stops placed in the order of the list, the worst of 150 events on the
-triangular critical cluster was off by 9e-2 at coefficient 0.6 (now 7e-5), and the 90th
-percentile over all of them was twice as large (2.2e-5 against 1.1e-5; on the periodic
-150^2 lattice 2.9e-5 against 7.0e-6).
+it is placed after them as a join that its neighbours' crossings push, and its own
+neighbours are scanned in turn (:mod:`.late_joins`).  Each crossing costs a few passes over
+a handful of blocks instead of a partial step.  The neglected terms are the second-order
+answer of the neighbours (and of theirs) and the dense output's error: the S error of an
+event grows like ``dt^4`` per crossing, against ``dt^5`` for the exact treatment
+(``faultnet.solver.accuracy`` calibrates which to use for a given rtol).  Placing the
+chained and revealed joins on the neighbours' paths is what keeps large events accurate:
+with one Newton step from the dense output's root for chained joins, revealed joins started
+back from the step's end on a Taylor expansion of the force and stops placed in the order
+of the list, the worst of 150 events on the triangular critical cluster was off by 9e-2 at
+coefficient 0.6 (now 7e-5), and the 90th percentile over all of them was twice as large
+(2.2e-5 against 1.1e-5; on the periodic 150^2 lattice 2.9e-5 against 7.0e-6).
 
 Arguments: ``h`` the step's length, ``th`` a fraction of it, ``b``, ``j`` blocks, ``nact``,
 ``ntouch`` the lengths of the active and touched lists, ``ncand`` the crossings listed in
@@ -54,6 +54,7 @@ import numpy as np
 
 from faultnet.solver._kernels.carlson_langer.crossing import join_theta, stick_theta
 from faultnet.solver._kernels.carlson_langer.late_joins import (
+    late_join,
     late_joins,
     refresh,
     rejoin,
@@ -92,11 +93,8 @@ from faultnet.solver._kernels.carlson_langer.work import (
     CAND,
     FLAG,
     JOINING,
-    LOC_LATE,
     LOC_MOVED,
     LOC_NCAND,
-    LOC_NLATE,
-    LOC_REVEALED,
     LOC_THETA,
     P2,
     SA,
@@ -323,50 +321,50 @@ def interpolated_crossings(h, h_min, nact, ntouch, w, keys, graph, work):
     """Apply every crossing the step's scan listed (``IW[CAND]``) at the step's end; commit.
 
     Called after a DP5 step of length h with ``scan == 2`` (the list complete:
-    ``loc[LOC_NCAND] >= 0``).  The joins that an earlier take of the same step revealed
-    (:mod:`.late_joins`) are listed after the scan's crossings.  Returns (nact, ntouch,
-    th_stop): ``th_stop`` is the latest stop's fraction of the step (0.0 if none stopped),
-    the event's end when no block is left slipping, or -1.0 if the crossings revealed more
-    joins: nothing is committed, and the step is to be taken again; -2.0 if a block that
-    stopped in the step is over the threshold at its end (it slips again) and the step is
-    longer than ``h_min``: nothing is committed, and the step is to be taken again at half
+    ``loc[LOC_NCAND] >= 0``).  The joins that the crossings reveal (:mod:`.late_joins`) are
+    placed after them, in rounds, each where its force on its neighbours' paths reaches 1.
+    Returns (nact, ntouch, th_stop): ``th_stop`` is the latest stop's fraction of the step
+    (0.0 if none stopped), the event's end when no block is left slipping; -1.0 if a block
+    that stopped in the step is over the threshold at its end (it slips again) and the step
+    is longer than ``h_min``: nothing is committed, and the step is to be taken again at half
     its length, until the stop and the new start fall in different steps.
     """
     W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
     ncand = np.int64(loc[LOC_NCAND])
-    for k in range(np.int64(loc[LOC_NLATE])):
-        IW[CAND, ncand] = np.int64(loc[LOC_LATE + k])
-        loc[LOC_THETA + ncand] = 1.0  # its force reaches 1 within the step (_chained)
-        ncand += 1
-    loc[LOC_REVEALED] = 0.0
     th_stop = 0.0
     _locate(h, ncand, graph, work)
-    for c in range(ncand):
-        b = IW[CAND, c]
-        if b >= 0:
-            W[b, VS] = _chained(b, W[b, VS], h, graph, work)
-    ncand = _order(ncand, work)
-    loc[LOC_MOVED] = 0.0
-    # on the step's own values (D, V, A -> DN, VN, AN and the stages), corrected as they go
-    for c in range(ncand):
-        e = IW[CAND, c]
-        if e <= -2:
-            th = W[-2 - e, VS]
-            _stop(-2 - e, th, h, graph, work)
-            th_stop = th if th > th_stop else th_stop
-        elif e >= 0:
-            place_join(e, W[e, VS], h, graph, work)
-    ncand, ntouch = late_joins(ncand, ntouch, w, keys, graph, work)
-    if loc[LOC_REVEALED] != 0.0:
-        take_again(ncand, work)
-        return nact, ntouch, -1.0
+    start = ncand - ncand
+    while True:  # the scan's crossings, then rounds of the joins they reveal
+        for c in range(start, ncand):
+            b = IW[CAND, c]
+            if b >= 0:
+                W[b, VS] = _chained(b, W[b, VS], h, graph, work)
+        if start == 0:
+            ncand = _order(ncand, work)
+            loc[LOC_MOVED] = 0.0
+            # on the step's own values (D, V, A -> DN, VN, AN and the stages), corrected as
+            # they go
+            for c in range(ncand):
+                e = IW[CAND, c]
+                if e <= -2:
+                    th = W[-2 - e, VS]
+                    _stop(-2 - e, th, h, graph, work)
+                    th_stop = th if th > th_stop else th_stop
+                elif e >= 0:
+                    place_join(e, W[e, VS], h, graph, work)
+        else:
+            for c in range(start, ncand):
+                late_join(IW[CAND, c], h, graph, work)
+        revealed, ntouch = late_joins(start, ncand, ntouch, w, keys, graph, work)
+        if revealed == ncand:
+            break
+        start, ncand = ncand, revealed
     if h > h_min:
         for c in range(ncand):
             e = IW[CAND, c]
             if e <= -2 and force(-2 - e, P2, W, graph) >= 1.0:
                 take_again(ncand, work)
-                return nact, ntouch, -2.0
-    loc[LOC_NLATE] = 0.0
+                return nact, ntouch, -1.0
     # commit the step (P2: every block's end position), then stops, joins and the
     # accelerations they change
     for q in range(nact):

@@ -5,15 +5,15 @@ stops and joins, the blocks they moved (a stopping or joining block b, and b's s
 neighbours, whose ends were corrected) may have pushed a stuck neighbour's force to 1 at the
 end of the step: such a block is a neighbour of b or of one of b's slipping neighbours
 (:func:`late_joins`, before the commit, on the end positions in ``P2``).  Its force passed 1
-inside the step, where the step's scan, which saw no crossing, did not list it.  The step is
-then taken again from its start, with these blocks listed after the scan's crossings
-(``loc[LOC_LATE:]``, :func:`_reveal`): as any join that its neighbours' crossings push, each
-starts where its force on their paths reaches 1 (:func:`.interp._chained`), and the
-crossings of the step answer it.  The step is taken again only when a new block is revealed,
-so a cascade ends.  On the ring of 2000, the periodic 64^2 lattice and the 150^2 percolation
-cluster (alpha 0.9), 0.4-2% of the events have such a join; the steps taken again are 0.4%
-of the lattice's block-steps.  Where the list is full (``LATE_CAP`` blocks, or the crossing
-list's cached fractions), a revealed block starts from rest at the end of the step.
+inside the step, where the step's scan, which saw no crossing, did not list it.  Such blocks
+are appended to the step's crossings (:func:`_reveal`) and placed after them, in rounds: as
+any join that its neighbours' crossings push, each starts where its force on their paths
+reaches 1 (:func:`.interp._chained`), and its path is answered by its slipping and joining
+neighbours and answers its stopping ones (:func:`late_join`); its own neighbours are scanned
+in the next round.  On the ring of 2000, the periodic 64^2 lattice and the 150^2
+percolation cluster (alpha 0.9), 0.4-2% of the events have such a join.  (Taking the step
+again with them listed among its crossings gave the same errors, and 6.5% more block-steps
+on the 150^2 lattice at rtol 2e-5.)
 
 A block that stopped in the step and is over the threshold at its end slips again: the
 step is taken again at half its length (:func:`.interp.interpolated_crossings`) until the
@@ -33,7 +33,9 @@ join touches), ``graph`` and ``work`` the ``Graph`` and ``Work`` bundles
 import numpy as np
 
 from faultnet.solver._kernels.carlson_langer.physics import accel, force
+from faultnet.solver._kernels.carlson_langer.response import place_join, stop_answer
 from faultnet.solver._kernels.carlson_langer.stepping import activate, touch
+from faultnet.solver._kernels.carlson_langer.tableau import path_dense
 from faultnet.solver._kernels.carlson_langer.work import (
     ACTIVE,
     AN,
@@ -41,17 +43,12 @@ from faultnet.solver._kernels.carlson_langer.work import (
     FLAG,
     FRONTIER,
     JOINING,
-    LATE_CAP,
-    LOC_LATE,
     LOC_MOVED,
-    LOC_NCAND,
-    LOC_NLATE,
-    LOC_REVEALED,
     P2,
     SA,
+    STOPPING,
     STUCK,
     SV,
-    THETA_CACHE,
     UNTOUCHED,
     VS,
     A,
@@ -60,8 +57,9 @@ from faultnet.solver._kernels.carlson_langer.work import (
     V,
 )
 from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
+from faultnet.solver._kernels.layout import CNT_REVEALED_JOINS
 
-__all__ = ["late_joins", "refresh", "rejoin", "take_again"]
+__all__ = ["late_join", "late_joins", "refresh", "rejoin", "take_again"]
 
 
 @kernel
@@ -86,23 +84,33 @@ def rejoin(b, nact, ntouch, w, keys, graph, work):
 
 @kernel
 def _reveal(j, ncand, work):
-    """Stuck block j, pushed over the threshold by the step's crossings: listed for the step's
-    next take (``loc[LOC_LATE:]``, ``loc[LOC_REVEALED]`` set), and meanwhile appended to the
-    crossings as a join at rest at the end of the step, which it stays if that list is full.
-    Returns ncand.
+    """Stuck block j, pushed over the threshold by the step's crossings, is appended to them
+    as a join at the end of the step (``W[j, VS] = 1``, at rest) until :func:`late_join`
+    places it.  Returns ncand.
     """
-    W, IW, loc = work.W, work.IW, work.loc
+    W, IW = work.W, work.IW
+    work.cnt[CNT_REVEALED_JOINS] += 1
     IW[FLAG, j] = JOINING
     W[j, VS] = 1.0
     W[j, SV] = 0.0
     W[j, SA] = 0.0
     IW[CAND, ncand] = j
-    n = np.int64(loc[LOC_NLATE])
-    if n < LATE_CAP and loc[LOC_NCAND] + n < THETA_CACHE:
-        loc[LOC_LATE + n] = j
-        loc[LOC_NLATE] = n + 1.0
-        loc[LOC_REVEALED] = 1.0
     return ncand + 1
+
+
+@inline_kernel
+def late_join(j, h, graph, work):
+    """Revealed join j at its fraction ``W[j, VS]`` of the step (:func:`.interp._chained`):
+    its path, its slipping and earlier-joining neighbours' answer to it
+    (:func:`~.response.place_join`), and its own answer to its stopping neighbours.
+    """
+    W, IW = work.W, work.IW
+    place_join(j, W[j, VS], h, graph, work)
+    for p in range(graph.indptr[j], graph.indptr[j + 1]):
+        b = graph.indices[p]
+        if IW[FLAG, b] == STOPPING:
+            c0, c1, c2, c3, c4 = path_dense(b, h, work)
+            stop_answer(j, graph.kval[p], W[b, SV], W[b, VS], h, c0, c1, c2, c3, c4, graph, work)
 
 
 @kernel
@@ -151,30 +159,29 @@ def _check(j, joining, ncand, ntouch, w, keys, graph, work):
 
 
 @inline_kernel
-def late_joins(ncand, ntouch, w, keys, graph, work):
-    """Joins revealed by the step's crossings, before the commit; returns (ncand, ntouch).
+def late_joins(start, ncand, ntouch, w, keys, graph, work):
+    """Joins revealed by the crossings ``IW[CAND, start:ncand]``, before the commit.
 
-    After the listed stops and joins are applied (``IW[CAND, :ncand]``), only they and their
-    slipping neighbours have moved from where the step's scan saw them, so a stuck block
-    whose force at the end of the step (``P2``) now reaches 1 is a neighbour of a crossing
-    block or of one of its slipping neighbours.  Each such block is revealed (appended to the
-    list, and its own neighbours scanned in turn).  The list holds at most one entry per
-    block.
+    After those stops and joins are applied, only they and their slipping neighbours have
+    moved from where the step's scan (or the round before) saw them, so a stuck block whose
+    force at the end of the step (``P2``) now reaches 1 is a neighbour of a crossing block or
+    of one of its slipping neighbours.  Each is appended to the list (:func:`_reveal`); its
+    own neighbours are scanned in the next round, once it is placed.  The list holds at most
+    one entry per block.  Returns (the list's new length, ntouch).
     """
     IW = work.IW
     indptr, indices = graph.indptr, graph.indices
-    c = 0
-    while c < ncand:
+    n = ncand
+    for c in range(start, ncand):
         e = IW[CAND, c]
-        c += 1
         b = -2 - e if e <= -2 else e
         for p in range(indptr[b], indptr[b + 1]):
-            n = indices[p]
-            ncand, ntouch = _check(n, e >= 0, ncand, ntouch, w, keys, graph, work)
-            if IW[FLAG, n] == ACTIVE:
-                for r in range(indptr[n], indptr[n + 1]):
+            m = indices[p]
+            n, ntouch = _check(m, e >= 0, n, ntouch, w, keys, graph, work)
+            if IW[FLAG, m] == ACTIVE:
+                for r in range(indptr[m], indptr[m + 1]):
                     if indices[r] != b:
-                        ncand, ntouch = _check(
-                            indices[r], np.bool_(False), ncand, ntouch, w, keys, graph, work
+                        n, ntouch = _check(
+                            indices[r], np.bool_(False), n, ntouch, w, keys, graph, work
                         )
-    return ncand, ntouch
+    return n, ntouch

@@ -39,7 +39,7 @@ from faultnet.solver._kernels.carlson_langer.stepping import (
     restore_positions,
     to_crossing,
 )
-from faultnet.solver._kernels.carlson_langer.work import LOC_NCAND, LOC_NLATE, D, V
+from faultnet.solver._kernels.carlson_langer.work import LOC_NCAND, D, V
 from faultnet.solver._kernels.jit import inline_kernel, kernel
 from faultnet.solver._kernels.layout import (
     CNT_BLOCK_STEPS,
@@ -160,7 +160,6 @@ def integrate_interpolated(ev, nact, ntouch, w, state, ctrl, graph, work, record
     zero = nsteps - nsteps  # int64, not a literal: one compiled signature per kernel
     scan = zero + 2  # list every crossing of the step, keep the stuck neighbours' forces
     h = dt
-    loc[LOC_NLATE] = 0.0
     while nact > 0:
         loc[LOC_NCAND] = 0.0
         th, who, kind, status = dopri_step(h, nact, scan, vmax, graph, work)
@@ -170,12 +169,10 @@ def integrate_interpolated(ev, nact, ntouch, w, state, ctrl, graph, work, record
         cnt[CNT_BLOCK_STEPS] += nact
         if who < 0:
             commit(nact, W, IW)
-            loc[LOC_NLATE] = 0.0
             t += h
             h = 2.0 * h if 2.0 * h < dt else dt
         elif loc[LOC_NCAND] < 0.0:
             restore_positions(nact, W, IW)
-            loc[LOC_NLATE] = 0.0
             h = 0.5 * h if 0.5 * h > dt * MIN_STEP else dt * MIN_STEP
         else:
             nact, ntouch, th_stop = interpolated_crossings(
@@ -185,11 +182,9 @@ def integrate_interpolated(ev, nact, ntouch, w, state, ctrl, graph, work, record
                 # the event ends at its last stop, not at the end of the step
                 t += h if nact > 0 or th_stop <= 0.0 else th_stop * h
                 h = 2.0 * h if 2.0 * h < dt else dt
-            else:  # taken again: with the joins it revealed (-1.0), or shorter (-2.0)
+            else:  # a stop and a new start of one block in the step: taken again, shorter
                 cnt[CNT_RETAKEN_STEPS] += 1
-                if th_stop < -1.5:  # a stop and a new start of one block in the step
-                    loc[LOC_NLATE] = 0.0
-                    h = 0.5 * h if 0.5 * h > dt * MIN_STEP else dt * MIN_STEP
+                h = 0.5 * h if 0.5 * h > dt * MIN_STEP else dt * MIN_STEP
         if tracing:
             record_trace(ev, t, state, work, records)
         if t > ctrl[CTRL_MAX_DURATION] or nsteps > max_steps:

@@ -22,8 +22,8 @@ Invariants kept by every kernel:
 
 ``loc`` (float64[LOC_SIZE]) holds the crossings a step's scan listed: their number
 ``loc[LOC_NCAND]`` (-1: too many for ``IW[CAND]``), the summed moves of the end positions since
-the scan ``loc[LOC_MOVED]``, the joins that the step's crossings revealed (:mod:`.late_joins`)
-and, from ``LOC_THETA``, where the scan put each listed crossing.
+the scan ``loc[LOC_MOVED]`` (:mod:`.late_joins`) and, from ``LOC_THETA``, where the scan put
+each listed crossing.
 """
 
 import numpy as np
@@ -45,12 +45,8 @@ __all__ = [
     "FSEEN",
     "FRONTIER",
     "JOINING",
-    "LATE_CAP",
-    "LOC_LATE",
     "LOC_MOVED",
     "LOC_NCAND",
-    "LOC_NLATE",
-    "LOC_REVEALED",
     "LOC_SIZE",
     "LOC_THETA",
     "MARK",
@@ -106,15 +102,8 @@ JOINING, STOPPING = 4, 5
 LOC_NCAND = 0
 #: summed |moves| of the end positions (``P2``) since the step's scan
 LOC_MOVED = 1
-#: the blocks that an earlier take of the step revealed as joins (:mod:`.late_joins`): their
-#: number, whether the present take revealed more (1.0), and the blocks from ``LOC_LATE``
-LOC_NLATE = 2
-LOC_REVEALED = 3
-LOC_LATE = 4
-#: the most joins revealed in one step that it is taken again for
-LATE_CAP = 64
 #: ``loc[LOC_THETA + k]``: where the step put crossing candidate k (2.0: not located)
-LOC_THETA = LOC_LATE + LATE_CAP
+LOC_THETA = 2
 #: candidates whose crossing is kept (the others count as not located)
 THETA_CACHE = 4096
 #: length of ``loc``
