@@ -11,7 +11,7 @@ any join that its neighbours' crossings push, each starts where its force on the
 reaches 1 (:func:`.interp._chained`), and its path is answered by its slipping and joining
 neighbours and answers its stopping ones (:func:`late_join`); its own neighbours are scanned
 in the next round.  On the ring of 2000, the periodic 64^2 lattice and the 150^2
-percolation cluster (alpha 0.9), 0.4-2% of the events have such a join.  (Taking the step
+percolation cluster (alpha 0.9), 0.4-1.7% of the events have such a join.  (Taking the step
 again with them listed among its crossings gave the same errors, and 6.5% more block-steps
 on the 150^2 lattice at rtol 2e-5.)
 
@@ -19,7 +19,7 @@ A block that stopped in the step and is over the threshold at its end slips agai
 step is taken again at half its length (:func:`.interp.interpolated_crossings`) until the
 stop and the new start fall in different steps, where the new start is a listed join; at
 the shortest step (1/16 of dt) it starts from rest at the end of the step
-(:func:`rejoin`).  About 20 in 100,000 events on the three graphs above have one; starting
+(:func:`rejoin`).  On the three graphs above, 8-19 in 100,000 events have one; starting
 it from rest at the end of a full step put such an event on the ring 2e-3 off at step
 coefficient 0.5.
 
