@@ -62,7 +62,7 @@ on events/s (``benchmarks/README.md``):
 A kernel compiles once per signature, and Numba types a Python ``int`` or ``bool`` constant
 argument as a literal, one signature per value.  So the constants that kernels pass to one
 another (the work columns ``work.D``, ``P``, ..., the stage columns ``tableau.KV``, ``KA``,
-``response.COMMITTED``) are NumPy scalars, typed ``int64`` or ``boolean``.
+the late joins' check's ``joining``) are NumPy scalars, typed ``int64`` or ``boolean``.
 """
 
 import numba as nb

@@ -68,7 +68,6 @@ from faultnet.solver._kernels.carlson_langer.physics import (
     start_accel,
 )
 from faultnet.solver._kernels.carlson_langer.response import (
-    BEFORE_COMMIT,
     neighbour_poly,
     place_join,
     respond,
@@ -129,7 +128,7 @@ def _stop(b, th, h, graph, work):
     W[b, SV] = xs
     work.loc[LOC_MOVED] += abs(xs - W[b, P2])
     W[b, P2] = xs
-    respond(b, -1.0, i1, i2, i3, i4, BEFORE_COMMIT, graph, work)
+    respond(b, -1.0, i1, i2, i3, i4, graph, work)
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         m = graph.indices[p]
         if IW[FLAG, m] == JOINING:

@@ -61,14 +61,11 @@ from faultnet.solver._kernels.carlson_langer.work import (
     VN,
     VS,
     D,
-    P,
     V,
 )
 from faultnet.solver._kernels.jit import inline_kernel, kernel
 
 __all__ = [
-    "BEFORE_COMMIT",
-    "COMMITTED",
     "answer",
     "join_cubic",
     "join_path",
@@ -81,10 +78,8 @@ __all__ = [
     "stop_position",
 ]
 
-#: :func:`respond`'s ``committed``: NumPy booleans, which Numba types as ``boolean``, not as
-#: literals, so that both values share one compiled signature
-BEFORE_COMMIT, COMMITTED = np.bool_(False), np.bool_(True)
-#: the first moment's order, an int64 for the same reason (:func:`_moment`)
+#: the first moment's order (:func:`_moment`): an int64, which Numba types as such, not as a
+#: literal, so that every order shares one compiled signature
 _FIRST = np.int64(1)
 
 # 4-point Gauss-Legendre rule on [-1, 1]: exact for the stops' integrands (degree 7)
@@ -102,32 +97,23 @@ def answer(n, k, vbar, i1, i2, i3, i4, graph):
 
 
 @kernel
-def respond(b, th, i1, i2, i3, i4, committed, graph, work):
+def respond(b, th, i1, i2, i3, i4, graph, work):
     """Correct the velocity and position of b's moving neighbours at the end of the step.
 
     ``i1`` ... ``i4``: the moments ``I_m`` of b's path difference over the rest of the step
-    from ``th`` (module text).  Before the step is committed the end state (VN, DN) of a
-    slipping neighbour is corrected, and that of a neighbour joining before ``th`` (its path
-    end in ``W[n, SV]``, ``W[n, SA]``, :func:`join_path`): it moves over all of
-    ``[th, 1]``; after the commit (``committed``) the committed state (V, and D with the
-    stage columns P and P2).
+    from ``th`` (module text).  Before the step is committed: the end state (VN, DN) of a
+    slipping neighbour, and that of a neighbour joining before ``th`` (its path end in
+    ``W[n, SV]``, ``W[n, SA]``, :func:`join_path`), which moves over all of ``[th, 1]``.
     """
     W, IW, kval = work.W, work.IW, graph.kval
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         n = graph.indices[p]
         if IW[FLAG, n] == ACTIVE:
             dv, dx = answer(n, kval[p], 0.5 * (W[n, V] + W[n, VN]), i1, i2, i3, i4, graph)
-            if committed:
-                W[n, V] += dv
-                x = W[n, D] + dx
-                W[n, D] = x
-                W[n, P] = x
-                W[n, P2] = x
-            else:
-                W[n, VN] += dv
-                W[n, DN] += dx
-                W[n, P2] = W[n, DN]
-                work.loc[LOC_MOVED] += abs(dx)
+            W[n, VN] += dv
+            W[n, DN] += dx
+            W[n, P2] = W[n, DN]
+            work.loc[LOC_MOVED] += abs(dx)
         elif IW[FLAG, n] == JOINING and W[n, VS] < th:
             dv, dx = answer(n, kval[p], 0.5 * W[n, SA], i1, i2, i3, i4, graph)
             W[n, SA] += dv
@@ -174,7 +160,7 @@ def place_join(j, th, h, graph, work):
     W[j, SA] = v
     W[j, P2] = W[j, D] + x
     work.loc[LOC_MOVED] += abs(x)
-    respond(j, th, i1, i2, i3, i4, BEFORE_COMMIT, graph, work)
+    respond(j, th, i1, i2, i3, i4, graph, work)
 
 
 @kernel
