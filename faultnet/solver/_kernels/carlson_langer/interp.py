@@ -78,12 +78,7 @@ from faultnet.solver._kernels.carlson_langer.response import (
 )
 from faultnet.solver._kernels.carlson_langer.roots import poly_root
 from faultnet.solver._kernels.carlson_langer.stepping import activate, deactivate, stick_scan
-from faultnet.solver._kernels.carlson_langer.tableau import (
-    KA,
-    path_dense,
-    slot_dense,
-    stage_rows,
-)
+from faultnet.solver._kernels.carlson_langer.tableau import KA, path_dense, slot_dense, stage_rows
 from faultnet.solver._kernels.carlson_langer.work import (
     ACT,
     ACTIVE,
@@ -341,8 +336,7 @@ def interpolated_crossings(h, h_min, nact, ntouch, w, keys, graph, work):
         if start == 0:
             ncand = _order(ncand, work)
             loc[LOC_MOVED] = 0.0
-            # on the step's own values (D, V, A -> DN, VN, AN and the stages), corrected as
-            # they go
+            # on the step's own values (D, V, A -> DN, VN, AN and the stages), corrected as they go
             for c in range(ncand):
                 e = IW[CAND, c]
                 if e <= -2:
