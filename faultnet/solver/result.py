@@ -136,8 +136,8 @@ class SimulationResult:
         (``partial_block_steps``), ``interpolated_crossings`` (stops and
         joins placed on a step's dense output), ``revealed_joins`` (joins that
         those crossings pushed over the threshold) and ``retaken_steps`` (steps
-        taken again at half their length because a block stopped and started
-        again within them).
+        taken again at half their length: a block stopped and started again
+        within them, or they held more crossings than their list).
     """
 
     events: pd.DataFrame

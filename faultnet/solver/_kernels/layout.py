@@ -113,7 +113,7 @@ CNT_RELOCATIONS = 7  #: an earlier crossing found inside a partial step
 CNT_SOLO_EVENTS = 8  #: events taken from a cached solo slip
 CNT_STAMPS = 9  #: tag counter of the steps' scans (never reset)
 CNT_INTERPOLATED_CROSSINGS = 10  #: stops and joins placed on a step's dense output
-CNT_RETAKEN_STEPS = 11  #: interpolated steps taken again at half length (a stop and restart)
+CNT_RETAKEN_STEPS = 11  #: interpolated steps taken again at half length
 CNT_REVEALED_JOINS = 12  #: joins that a step's interpolated crossings revealed
 CNT_SIZE = 13
 

@@ -146,9 +146,10 @@ def integrate_exact(ev, nact, ntouch, w, state, ctrl, graph, work, records):
 def integrate_interpolated(ev, nact, ntouch, w, state, ctrl, graph, work, records):
     """Integrate the active blocks until every block has stopped, crossings on the dense output.
 
-    Every full DP5 step is kept.  A step whose crossings overflow their list (``IW[CAND]``, one
-    row: only in events spanning most of a small graph) is taken again at half the length, and
-    the step grows back to dt by doubling.
+    Every full DP5 step is kept, except that a step whose crossings overflow their list
+    (``IW[CAND]``, one row: only in events spanning most of a small graph), or in which a block
+    stops and starts again (:mod:`.late_joins`), is taken again at half the length; the step
+    grows back to dt by doubling.
     """
     W, IW, loc, cnt = work.W, work.IW, work.loc, work.cnt
     keys = state.keys
@@ -167,24 +168,23 @@ def integrate_interpolated(ev, nact, ntouch, w, state, ctrl, graph, work, record
             return status, t, nsteps, ntouch
         nsteps += 1
         cnt[CNT_BLOCK_STEPS] += nact
+        th_stop = 0.0
         if who < 0:
             commit(nact, W, IW)
-            t += h
-            h = 2.0 * h if 2.0 * h < dt else dt
-        elif loc[LOC_NCAND] < 0.0:
+        elif loc[LOC_NCAND] < 0.0:  # more crossings than the list holds
             restore_positions(nact, W, IW)
-            h = 0.5 * h if 0.5 * h > dt * MIN_STEP else dt * MIN_STEP
-        else:
+            th_stop = -1.0
+        else:  # -1.0: a stop and a new start of one block in the step
             nact, ntouch, th_stop = interpolated_crossings(
                 h, dt * MIN_STEP, nact, ntouch, w, keys, graph, work
             )
-            if th_stop >= 0.0:
-                # the event ends at its last stop, not at the end of the step
-                t += h if nact > 0 or th_stop <= 0.0 else th_stop * h
-                h = 2.0 * h if 2.0 * h < dt else dt
-            else:  # a stop and a new start of one block in the step: taken again, shorter
-                cnt[CNT_RETAKEN_STEPS] += 1
-                h = 0.5 * h if 0.5 * h > dt * MIN_STEP else dt * MIN_STEP
+        if th_stop >= 0.0:
+            # the event ends at its last stop, not at the end of the step
+            t += h if nact > 0 or th_stop <= 0.0 else th_stop * h
+            h = 2.0 * h if 2.0 * h < dt else dt
+        else:  # the step is taken again at half its length
+            cnt[CNT_RETAKEN_STEPS] += 1
+            h = 0.5 * h if 0.5 * h > dt * MIN_STEP else dt * MIN_STEP
         if tracing:
             record_trace(ev, t, state, work, records)
         if t > ctrl[CTRL_MAX_DURATION] or nsteps > max_steps:
