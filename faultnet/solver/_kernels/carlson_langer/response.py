@@ -294,7 +294,14 @@ def _moment(T, m, a):
     for q in range(2, m + 2):
         c /= q  # 1! / (1 + m)!
     s = 0.0
-    tk = T ** (m + 1)
+    # tk = T^(m + 1) by squaring, as Numba's ``**`` computes it, which without the rewrite
+    # passes would be a library of its own
+    tk, sq, e = 1.0, T, m + 1
+    while e != 0:
+        if e & 1:
+            tk *= sq
+        e >>= 1
+        sq *= sq
     for k in range(1, 9):
         s += a[k - 1] * c * tk
         c *= (k + 1.0) / (k + 1.0 + m)
