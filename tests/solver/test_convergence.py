@@ -41,8 +41,8 @@ def test_order_and_default_accuracy(graph, alpha, x0):
     errs = slip_errors(model, np.asarray(x0, float), factors)
     order = np.polyfit(np.log(factors), np.log(errs), 1)[0]
     print(f"errors {errs}, fitted order {order:.2f}")
-    # stick and join instants are located inside the step (Hermite estimate,
-    # then Newton on the true residual), so the scheme keeps its order:
+    # stick and join instants are located inside the step (on its dense output,
+    # then reached by partial steps and polished to round-off), so the scheme keeps its order:
     # measured 5.7-6.3 for dopri5 (order 5)
     assert order > 4.5, (order, errs)
     # at the default dt a single event is within 1e-6 relative of the dt -> 0 limit

@@ -2,9 +2,7 @@
 
 A *stick* is a slipping block whose velocity reaches 0; a *join* is a stuck neighbour whose
 force reaches the static threshold 1.  Both are located as a fraction ``theta`` of the step
-just taken, on the DP5 dense output (fourth order), or on a cubic Hermite interpolant of the
-end values for the rare stops of a block that joined at rest or whose velocity dips below
-zero inside the step (:mod:`.roots`).
+just taken, on the DP5 dense output (fourth order, :func:`.roots.poly_root`).
 
 Arguments: ``h`` the step's length, ``q`` a block's position in the active list, ``i``,
 ``j`` blocks, ``W`` the work array and ``K`` its stage rows (:func:`~.tableau.stage_rows`),
@@ -14,7 +12,7 @@ Arguments: ``h`` the step's length, ``q`` a block's position in the active list,
 import numpy as np
 
 from faultnet.solver._kernels.carlson_langer.physics import force, force_hot
-from faultnet.solver._kernels.carlson_langer.roots import hermite_dip, hermite_fall, poly_root
+from faultnet.solver._kernels.carlson_langer.roots import poly_root
 from faultnet.solver._kernels.carlson_langer.tableau import (
     KA,
     KV,
@@ -67,18 +65,31 @@ JOIN = 2
 
 @kernel
 def stick_theta(h, q, i, W, K):
-    """Where inside the step block i (active position q) stops; 2.0 if it does not."""
+    """Where inside the step block i (active position q) stops; 2.0 if it does not.
+
+    On the dense output of its velocity, ``v(th) = c0 + c1 th + ... + c4 th^4``, whose slope
+    at the ends is the step's accelerations (``c1 = h A``, ``h AN`` at th = 1): the root
+    where v falls to 0 from above, or, from rest (a block that joined at rest and stops
+    again within the step), where ``v / th`` does; a velocity that falls and rises again
+    inside a step whose ends are both positive stops where it falls through 0 before its
+    minimum, if that minimum is not above 0.
+    """
     v0 = W[i, V]
     v1 = W[i, VN]
-    if v1 <= 0.0:
-        if v0 > 0.0:
-            c0, c1, c2, c3, c4 = slot_dense(v0, v1, h, K, q, KA, W[i, AN])
-            return poly_root(0.0, 1.0, c0, c1, c2, c3, c4)
-        # joined at rest and stops again within the step
-        return hermite_fall(h * W[i, A], v1, h * W[i, AN])
-    if W[i, A] < 0.0 and W[i, AN] > 0.0:
-        return hermite_dip(v0, h * W[i, A], v1, h * W[i, AN])
-    return 2.0
+    if v1 > 0.0 and not (W[i, A] < 0.0 and W[i, AN] > 0.0):
+        return 2.0
+    c0, c1, c2, c3, c4 = slot_dense(v0, v1, h, K, q, KA, W[i, AN])
+    if v1 > 0.0:  # a dip: the minimum, where the slope rises through 0
+        lo = poly_root(0.0, 1.0, c1, 2.0 * c2, 3.0 * c3, 4.0 * c4, 0.0)
+        if c0 + lo * (c1 + lo * (c2 + lo * (c3 + lo * c4))) > 0.0:
+            return 2.0
+    elif v0 > 0.0:
+        lo = 1.0
+    elif c1 > 0.0:  # from rest, rising first
+        return poly_root(0.0, 1.0, c1, c2, c3, c4, 0.0)
+    else:  # from rest, never rising: it stops at once
+        return 0.0
+    return poly_root(0.0, lo, c0, c1, c2, c3, c4)
 
 
 @kelvin_kernel
