@@ -146,14 +146,21 @@ def test_fault_slips_continue_across_advances():
 
 def test_the_jump_fraction_of_large_events_grows_with_the_coupling():
     """Two parallel rings coupled block by block: the share of the largest tenth of the
-    events that rupture both faults is 0 without coupling springs and grows with them."""
+    events that rupture both faults is 0 without coupling springs and grows with them.
+
+    Averaged over three seeds: one run's share at a given coupling moves by up to 0.1 from
+    one seed to the next (at 1.0: 0.29 to 0.54 over seeds 1 to 5), more than the steps
+    between the couplings above 0.3."""
     fractions = []
     for k_coupling in (0.0, 0.03, 0.3, 1.0):
         graph = faultnet.graphs.parallel_faults(2, 100, k_coupling=k_coupling, periodic=True)
         model = faultnet.CarlsonLanger(graph, k=16, sigma=0.01, alpha=1.0)
-        ev = faultnet.simulate(model, 15_000, rng=1, progress=False).events
-        ev = ev[ev["t"] > 2.0]
-        large = ev[ev["M"] >= ev["M"].quantile(0.9)]
-        fractions.append(float(np.mean(large["n_faults"] > 1)))
+        shares = []
+        for seed in (1, 2, 3):
+            ev = faultnet.simulate(model, 15_000, rng=seed, progress=False).events
+            ev = ev[ev["t"] > 2.0]
+            large = ev[ev["M"] >= ev["M"].quantile(0.9)]
+            shares.append(float(np.mean(large["n_faults"] > 1)))
+        fractions.append(float(np.mean(shares)))
     assert fractions[0] == 0.0
     assert all(a + 0.02 < b for a, b in zip(fractions, fractions[1:], strict=False)), fractions

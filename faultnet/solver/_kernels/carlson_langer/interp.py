@@ -78,7 +78,7 @@ from faultnet.solver._kernels.carlson_langer.response import (
 )
 from faultnet.solver._kernels.carlson_langer.roots import poly_root
 from faultnet.solver._kernels.carlson_langer.stepping import activate, deactivate, stick_scan
-from faultnet.solver._kernels.carlson_langer.tableau import KA, path_dense, slot_dense, stage_rows
+from faultnet.solver._kernels.carlson_langer.tableau import path_dense, stage_rows
 from faultnet.solver._kernels.carlson_langer.work import (
     ACT,
     ACTIVE,
@@ -135,23 +135,16 @@ def _start_rates(j, th, h, graph, work):
     """Acceleration, jerk and snap of stuck block j starting at fraction th of the step.
 
     From rest at the threshold (:func:`~.physics.start_accel`, :func:`~.physics.jerk_snap`),
-    with the spring sums of the moving neighbours' dense velocities and accelerations at th
-    (slipping, or slipping until a stop later in the step).
+    with the spring sums of its moving neighbours' velocities and accelerations at th: the
+    first and second derivatives of the force of their dense output (:func:`neighbour_poly`,
+    slipping neighbours, or slipping until a stop later in the step).
     """
-    W, IW = work.W, work.IW
-    indptr, indices, kval = graph.indptr, graph.indices, graph.kval
-    df = 0.0
-    ddf = 0.0
-    for p in range(indptr[j], indptr[j + 1]):
-        n = indices[p]
-        if IW[FLAG, n] == ACTIVE or IW[FLAG, n] == STOPPING:
-            q = IW[APOS, n]
-            c0, c1, c2, c3, c4 = slot_dense(W[n, V], W[n, VN], h, stage_rows(work), q, KA, W[n, AN])
-            df += kval[p] * (c0 + th * (c1 + th * (c2 + th * (c3 + th * c4))))
-            ddf += kval[p] * (c1 + th * (2.0 * c2 + th * (3.0 * c3 + th * 4.0 * c4)))
-    ddf /= h
+    g1, g2, g3, g4 = neighbour_poly(j, h, -1.0, graph, work)
+    r = 1.0 / h
+    sv = (g1 + th * (2.0 * g2 + th * (3.0 * g3 + th * 4.0 * g4))) * r
+    sa = (2.0 * g2 + th * (6.0 * g3 + th * 12.0 * g4)) * (r * r)
     a0 = start_accel(j, graph)
-    jerk, snap = jerk_snap(j, 0.0, a0, df, ddf, graph)
+    jerk, snap = jerk_snap(j, 0.0, a0, sv, sa, graph)
     return a0, jerk, snap
 
 
