@@ -187,9 +187,7 @@ def _one_event(integrate, ev, state, graph, ctrl, cls, solo, work, records):
             out[OUT_STEPS] = solo[c, SOLO_STEPS]
             return STATUS_OK
         else:
-            nact, ntouch = _start(hyp, w, state, graph, work)
-            if not at_threshold:  # a given state: every block above the threshold slips now
-                nact, ntouch = _start_above(nact, ntouch, w, state, graph, work)
+            nact, ntouch = _start(hyp, w, not at_threshold, state, graph, work)
             if len(records.trace_nodes) > 0:
                 record_trace(ev, 0.0, state, work, records)
             run_w = w
@@ -247,30 +245,26 @@ def _undo_event(ntouch, rows0, state, graph, work):
 
 
 @inline_kernel
-def _start(hyp, w, state, graph, work):
-    """Touch and activate the hypocentre and every block it brings over the threshold."""
+def _start(hyp, w, above, state, graph, work):
+    """Touch and activate the hypocentre and every block it brings over the threshold.
+
+    With ``above`` (a given state, ``x0``: loading stops at the first block to reach the
+    threshold, and only such a state holds others above it) every other block whose force is
+    1 or more at plate position ``w`` is activated first, in one pass over the blocks: they
+    all slip from the event's start, as the equations say, also where no spring links them
+    to the hypocentre.
+    """
     keys = state.keys
     W, IW = work.W, work.IW
     zero = hyp - hyp  # int64, not a literal: one compiled signature per kernel
     ntouch = touch(hyp, w, keys, W, IW, zero)
     nact, ntouch = activate(hyp, zero, ntouch, w, keys, graph, work)
-    return join_scan(nact, ntouch, w, keys, graph, work)
-
-
-@kernel
-def _start_above(nact, ntouch, w, state, graph, work):
-    """Activate every other block whose force is 1 or more at plate position ``w``.
-
-    Only a given state (``x0``) holds such blocks: loading stops at the first block to
-    reach the threshold.  They all slip from the event's start, as the equations say, also
-    where no spring links them to the hypocentre.  One pass over the blocks.
-    """
-    keys, IW = state.keys, work.IW
-    for j in range(len(keys)):
-        if keys[j] <= w and IW[FLAG, j] != ACTIVE:
-            if IW[FLAG, j] == UNTOUCHED:
-                ntouch = touch(j, w, keys, work.W, IW, ntouch)
-            nact, ntouch = activate(j, nact, ntouch, w, keys, graph, work)
+    if above:
+        for j in range(len(keys)):
+            if keys[j] <= w and IW[FLAG, j] != ACTIVE:
+                if IW[FLAG, j] == UNTOUCHED:
+                    ntouch = touch(j, w, keys, W, IW, ntouch)
+                nact, ntouch = activate(j, nact, ntouch, w, keys, graph, work)
     return join_scan(nact, ntouch, w, keys, graph, work)
 
 
