@@ -19,7 +19,9 @@ from faultnet.runs import long_run
 from faultnet.runs.checkpoint import checkpoint_dir, checkpoint_status
 from faultnet.runs.long_run import simulate_to_parquet
 
-N_BLOCKS, N_EVENTS, SEED = 200, 40_000, 11
+# enough events that the run is still writing at the last kill, which lands up to about
+# 1.6 s after the first (40,000 events were written in less on a fast machine)
+N_BLOCKS, N_EVENTS, SEED = 200, 100_000, 11
 
 
 def _committed(out):
