@@ -135,7 +135,8 @@ class SimulationResult:
         ``block_steps`` spent in partial steps to crossings and their polish
         (``partial_block_steps``), ``interpolated_crossings`` (stops and
         joins placed on a step's dense output), ``revealed_joins`` (joins that
-        those crossings pushed over the threshold) and ``retaken_steps`` (steps
+        those crossings pushed over the threshold, counted in every take of a
+        step) and ``retaken_steps`` (steps
         taken again at half their length: a block stopped and started again
         within them, or they held more crossings than their list).
     """

@@ -120,9 +120,9 @@ def _errors(model, states, options=None):
 
 def test_events_with_revealed_joins_are_accurate():
     """On the periodic 12^2 lattice at the default rtol (1e-6), 20 events with joins that the
-    crossings revealed (26-121 blocks).  Measured over 40 such events: 90th percentile
-    2.8e-6, worst 6.3e-6; over another 40, 1.4e-6 and 1.2e-5, as with the revealed joins
-    placed by bisection on the neighbours' paths.  A revealed join placed at the first push of
+    crossings revealed (26-121 blocks).  Measured: 90th percentile 2.0e-6, worst 2.3e-5
+    (with the revealed joins placed by bisection on the neighbours' paths, 1.4e-6 and 1.2e-5
+    over 40 such events).  A revealed join placed at the first push of
     its neighbours rather than where its force reached 1 on the dense output made one of
     these events 2.7e-3 off."""
     g = faultnet.graphs.square_lattice(12, 12, periodic=True)
@@ -135,7 +135,7 @@ def test_events_with_revealed_joins_are_accurate():
 def test_a_stop_and_a_new_start_in_one_step_are_accurate():
     """On a ring of 200 at the long step of coefficient 0.5 (the statistics level's), 24
     events with a step taken again at half its length: a block stopped and started again
-    within it.  Measured: 90th percentile 3.1e-5, worst 4.8e-5; with such a block started
+    within it.  Measured: 90th percentile 3.2e-5, worst 1.0e-4; with such a block started
     from rest at the end of the full step instead, 1.3e-3 and 4.4e-3."""
     model = faultnet.CarlsonLanger(faultnet.graphs.ring(200), k=16, sigma=0.01, alpha=1.0)
     opts = faultnet.RunOptions(dt=0.5 / omega2_max(model) ** 0.5, crossings="interpolated")

@@ -114,7 +114,7 @@ CNT_SOLO_EVENTS = 8  #: events taken from a cached solo slip
 CNT_STAMPS = 9  #: tag counter of the steps' scans (never reset)
 CNT_INTERPOLATED_CROSSINGS = 10  #: stops and joins placed on a step's dense output
 CNT_RETAKEN_STEPS = 11  #: interpolated steps taken again at half length
-CNT_REVEALED_JOINS = 12  #: joins that a step's interpolated crossings revealed
+CNT_REVEALED_JOINS = 12  #: joins revealed by interpolated crossings (each take of a step)
 CNT_SIZE = 13
 
 OUT_T = 0  #: plate time of the last event's start
