@@ -14,7 +14,6 @@ and acceleration of :mod:`~.carlson_langer.physics` and the crossing scan of
 from collections import namedtuple
 
 import numpy as np
-from numba.extending import overload
 
 __all__ = [
     "Graph",
@@ -98,15 +97,10 @@ def kelvin(graph):
     (``graph.nu > 0``, ``graph.viscous``) the plain ring ran 10-15% fewer events/s.  The
     guarded code is still typed and lowered for a plain :data:`Graph` (LLVM drops it), so
     longer terms are kernels of their own that a plain model never compiles
-    (:func:`~faultnet.solver._kernels.jit.kelvin_kernel`).
+    (:func:`~faultnet.solver._kernels.jit.kelvin_kernel`).  Its compiled form is an
+    ``overload`` in :mod:`~faultnet.solver._kernels.jit`.
     """
     return isinstance(graph, KelvinGraph)
-
-
-@overload(kelvin, inline="always")
-def _kelvin_typed(graph):
-    flag = getattr(graph, "instance_class", None) is KelvinGraph
-    return lambda graph: flag
 
 
 #: The model's state between events (:mod:`.carlson_langer.tree`).

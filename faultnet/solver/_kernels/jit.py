@@ -104,8 +104,22 @@ kernel = _cached(**INNER)
 forced_kernel = _cached(**dict(INNER, forceinline=True))
 #: a kernel inlined into its callers (Numba IR inlining, before typing)
 inline_kernel = _cached(inline="always", **INNER)
-#: a kernel called from Python
-entry = _cached(nogil=True, _nrt=False, no_rewrites=True)
+#: a kernel called from Python (through its CPython wrapper only)
+entry = _cached(nogil=True, _nrt=False, no_rewrites=True, no_cfunc_wrapper=True)
+#: options of the functions that an ``overload`` compiles (:func:`kelvin_kernel`,
+#: :func:`~faultnet.solver._kernels.bundles.kelvin`), called from compiled code only: an
+#: overload compiles one function (and library) per signature, with the Python and C wrappers
+#: unless told otherwise (a C wrapper was most of such a library's LLVM instructions, 2,100
+#: of a lattice run's 32,330: 0.24 s of its cold compile, with the entry's C wrapper)
+OVERLOAD = {
+    k: INNER[k] for k in ("nogil", "_nrt", "no_cpython_wrapper", "no_cfunc_wrapper", "no_rewrites")
+}
+
+
+@overload(kelvin, inline="always", jit_options=OVERLOAD)
+def _kelvin_typed(graph):
+    flag = getattr(graph, "instance_class", None) is KelvinGraph
+    return lambda graph: flag
 
 
 def _first(*args):
@@ -132,7 +146,7 @@ def kelvin_kernel(func=None, *, plain=_first):
     def call(*args):
         return func(*args) if any(kelvin(a) for a in args) else plain(*args)
 
-    @overload(call, jit_options={"nogil": True, "_nrt": False})
+    @overload(call, jit_options=OVERLOAD)
     def _typed(*args):
         if any(getattr(a, "instance_class", None) is KelvinGraph for a in args):
             return lambda *args: compiled(*args)
