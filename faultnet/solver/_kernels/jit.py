@@ -110,10 +110,10 @@ entry = _cached(nogil=True, _nrt=False, no_rewrites=True, no_cfunc_wrapper=True)
 #: :func:`~faultnet.solver._kernels.bundles.kelvin`), called from compiled code only: an
 #: overload compiles one function (and library) per signature, with the Python and C wrappers
 #: unless told otherwise (a C wrapper was most of such a library's LLVM instructions, 2,100
-#: of a lattice run's 32,330: 0.24 s of its cold compile, with the entry's C wrapper)
-OVERLOAD = {
-    k: INNER[k] for k in ("nogil", "_nrt", "no_cpython_wrapper", "no_cfunc_wrapper", "no_rewrites")
-}
+#: of a lattice run's 32,330: 0.24 s of its cold compile, with the entry's C wrapper).  Not
+#: ``no_rewrites``: ``args[0]`` of a star-args tuple then compiles a ``getitem`` function per
+#: tuple type (seven more libraries on a lattice run).
+OVERLOAD = {k: INNER[k] for k in ("nogil", "_nrt", "no_cpython_wrapper", "no_cfunc_wrapper")}
 
 
 @overload(kelvin, inline="always", jit_options=OVERLOAD)
