@@ -120,7 +120,7 @@ State = namedtuple("State", ["z", "scal", "keys", "tree"])
 #:   derivatives of the block at active position q (:func:`.carlson_langer.tableau.stage_rows`,
 #:   columns ``KV``, ``KA``), row 2 N the ghost, never written, which padded neighbours
 #:   read (``Graph.nbr``), and row 2 N + 1 the plate's advance during the event
-#:   (:func:`.carlson_langer.work.plate_row`);
+#:   (``carlson_langer.work.PLATE``, its last);
 #: - ``IW`` (int64[N_IWORK, N]): int work, rows named in :mod:`.carlson_langer.work`;
 #: - ``loc`` (float64[LOC_SIZE]): the crossings a step listed (:mod:`.carlson_langer.work`);
 #: - ``cnt`` (int64[CNT_SIZE]): counters (``layout.CNT_*``).

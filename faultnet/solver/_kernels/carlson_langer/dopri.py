@@ -24,6 +24,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     AN,
     DN,
     P2,
+    PLATE,
     Q2,
     VN,
     A,
@@ -32,7 +33,6 @@ from faultnet.solver._kernels.carlson_langer.work import (
     Q,
     V,
     new_id,
-    plate_row,
 )
 from faultnet.solver._kernels.jit import kelvin_kernel, kernel
 
@@ -62,7 +62,7 @@ def _stage_velocity(v, i, col, W, graph):
 def _plate_stage(base, frac, nu_h, pos, W, graph):
     """With a moving plate, its advance ``base + frac nu_h`` (``frac`` of the step) at ``pos``."""
     if graph.nu > 0.0:
-        W[plate_row(W), pos] = base + frac * nu_h
+        W[PLATE, pos] = base + frac * nu_h
     return base
 
 
@@ -100,7 +100,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
     W, IW = work.W, work.IW
     K = stage_rows(work)
     nu_h = graph.nu * h
-    base = W[plate_row(W), D]
+    base = W[PLATE, D]
     for q in range(np.uint64(nact)):
         i = np.uint64(IW[ACT, q])
         v = W[i, V]

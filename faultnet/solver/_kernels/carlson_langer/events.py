@@ -48,6 +48,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     FLAG,
     FSEEN,
     P2,
+    PLATE,
     Q2,
     STUCK,
     TOUCH,
@@ -57,7 +58,6 @@ from faultnet.solver._kernels.carlson_langer.work import (
     P,
     Q,
     V,
-    plate_row,
 )
 from faultnet.solver._kernels.jit import entry, inline_kernel, kelvin_kernel, kernel
 from faultnet.solver._kernels.layout import (
@@ -223,8 +223,8 @@ def _plate_moved(w, state, work, graph):
     its position at the end; the plate row of ``W`` is cleared for the next event."""
     if graph.nu > 0.0:
         W = work.W
-        state.scal[SCAL_W] = w + W[plate_row(W), D]
-        W[plate_row(W), :] = 0.0
+        state.scal[SCAL_W] = w + W[PLATE, D]
+        W[PLATE, :] = 0.0
 
 
 @kernel
@@ -240,7 +240,7 @@ def _undo_event(ntouch, rows0, state, graph, work):
         IW[FLAG, j] = UNTOUCHED
         keys[j] = block_key(j, state.z, state.scal[SCAL_OFFSET], graph)
         tree_update(j, keys, state.tree)
-    W[plate_row(W), :] = 0.0
+    W[PLATE, :] = 0.0
     work.cnt[CNT_TRACE_ROWS] = rows0
 
 

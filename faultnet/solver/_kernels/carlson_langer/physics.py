@@ -28,7 +28,7 @@ with either runs the exact crossings.  Another
 friction law is a change of :func:`friction`, :func:`friction_slope` and :func:`jerk_snap`.
 
 Where the time and the velocities enter: a position column ``pos`` of ``W`` comes with the
-plate's advance at its instant (``W[plate_row(W), pos]``) and with the velocities at that
+plate's advance at its instant (``W[PLATE, pos]``) and with the velocities at that
 instant (column ``velocities(pos)``), see :mod:`.work`.
 
 Arguments: ``i`` a block, ``pos`` and ``vel`` columns of the work array ``W`` (positions,
@@ -47,9 +47,9 @@ from faultnet.solver._kernels.carlson_langer.work import (
     AN,
     F0,
     FLAG,
+    PLATE,
     VN,
     D,
-    plate_row,
     velocities,
 )
 from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kelvin_kernel, kernel
@@ -126,7 +126,7 @@ def kelvin_terms(f, i, pos, W, graph):
     """Force ``f`` on block ``i`` (column ``pos``) plus the plate's advance and the viscous
     pull ``sum_j eta_ij (v_j - v_i)``, the velocities of column ``velocities(pos)``."""
     if graph.nu > 0.0:
-        f += W[plate_row(W), pos]
+        f += W[PLATE, pos]
     if graph.viscous:
         vel = velocities(pos)
         s = 0.0
@@ -150,7 +150,7 @@ def uniform_dashpots(k, i, pos, W, graph):
         sv += W[nbr[i, c], vel]
     f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
     if graph.nu > 0.0:
-        f += W[plate_row(W), pos]
+        f += W[PLATE, pos]
     return f + (graph.eta_uniform * sv - graph.eta_sum[i] * W[i, vel])
 
 
@@ -204,7 +204,7 @@ def stuck_key(i, w, W, graph):
     From its force now (column D at plate position ``w`` plus the advance ``W[plate, D]``):
     the event's counterpart of :func:`block_key`.
     """
-    return w + W[plate_row(W), D] + (1.0 - force(i, D, W, graph))
+    return w + W[PLATE, D] + (1.0 - force(i, D, W, graph))
 
 
 @kernel
@@ -218,8 +218,11 @@ def friction(i, v, graph):
 
 @kernel
 def accel(i, pos, vel, W, graph):
-    """Acceleration of slipping block ``i`` (columns ``pos``, ``vel`` of ``W``)."""
-    return force(i, pos, W, graph) - friction(i, W[i, vel], graph)
+    """Acceleration of slipping block ``i`` (columns ``pos``, ``vel`` of ``W``).
+
+    The friction takes the block unsigned, as from the DP5 stages: one compiled signature.
+    """
+    return force(i, pos, W, graph) - friction(np.uint64(i), W[i, vel], graph)
 
 
 @forced_kernel

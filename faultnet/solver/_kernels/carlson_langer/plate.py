@@ -34,9 +34,9 @@ from faultnet.solver._kernels.carlson_langer.work import (
     ACT,
     ACTIVE,
     FLAG,
+    PLATE,
     UNTOUCHED,
     D,
-    plate_row,
 )
 from faultnet.solver._kernels.jit import kelvin_kernel
 
@@ -61,7 +61,7 @@ def next_plate_join(h, w, state, graph, work):
         keys[j] = math.inf
         tree_update(j, keys, tree)
         j = tree[1]
-    hp = (keys[j] - w - W[plate_row(W), D]) / graph.nu
+    hp = (keys[j] - w - W[PLATE, D]) / graph.nu
     if hp < h and IW[FLAG, j] != ACTIVE:
         return (hp if hp > 0.0 else 0.0), j
     return h, j - j - 1

@@ -23,6 +23,7 @@ from faultnet.solver._kernels.carlson_langer.work import (
     FLAG,
     FRONTIER,
     P2,
+    PLATE,
     Q2,
     STUCK,
     TOUCH,
@@ -33,7 +34,6 @@ from faultnet.solver._kernels.carlson_langer.work import (
     P,
     Q,
     V,
-    plate_row,
 )
 from faultnet.solver._kernels.jit import inline_kernel, kernel
 from faultnet.solver._kernels.layout import (
@@ -135,8 +135,7 @@ def commit(nact, W, IW):
         W[i, D] = W[i, DN]
         W[i, V] = W[i, VN]
         W[i, A] = W[i, AN]
-    pr = plate_row(W)
-    W[pr, D] = W[pr, DN]
+    W[PLATE, D] = W[PLATE, DN]
 
 
 @kernel
@@ -146,8 +145,7 @@ def restore_positions(nact, W, IW):
         i = IW[ACT, q]
         W[i, P] = W[i, D]
         W[i, P2] = W[i, D]
-    pr = plate_row(W)
-    W[pr, P] = W[pr, P2] = W[pr, D]
+    W[PLATE, P] = W[PLATE, P2] = W[PLATE, D]
 
 
 @inline_kernel
@@ -181,10 +179,9 @@ def _taylor_shift(dh, nact, graph, work):
             W[i, Q] = W[i, VN]
             W[i, Q2] = W[i, VN]
     if graph.nu > 0.0:
-        pr = plate_row(W)
-        W[pr, DN] += graph.nu * dh
-        W[pr, P] = W[pr, DN]
-        W[pr, P2] = W[pr, DN]
+        W[PLATE, DN] += graph.nu * dh
+        W[PLATE, P] = W[PLATE, DN]
+        W[PLATE, P2] = W[PLATE, DN]
     for q in range(nact):
         i = IW[ACT, q]
         W[i, AN] = accel(i, P, VN, W, graph)

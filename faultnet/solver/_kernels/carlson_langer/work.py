@@ -13,7 +13,7 @@ Invariants kept by every kernel:
   (neighbours read P and P2, the two stage-position buffers);
 - ``W[j, V] == W[j, VN] == 0`` for every block that is not active, and in viscous models
   ``W[j, Q] == W[j, Q2] == 0`` too;
-- the *plate row* ``W[2 N + 1]`` (:func:`plate_row`) holds, in each position column, the
+- the *plate row* ``W[PLATE]``, the last (``W[2 N + 1]``), holds, in each position column, the
   plate's advance ``nu t`` since the event's start at that column's instant; all zeros
   where the plate is frozen during events (``nu = 0``);
 - every neighbour of an active block is *touched* (``IW[FLAG, j] != UNTOUCHED``)
@@ -67,7 +67,7 @@ __all__ = [
     "VN",
     "VS",
     "new_id",
-    "plate_row",
+    "PLATE",
     "velocities",
 ]
 
@@ -86,6 +86,9 @@ __all__ = [
 D, P, V, A, DN, VN, AN, SV, SA, VS, P2, F0 = (np.int64(c) for c in range(12))
 Q, Q2 = SV, SA
 N_WORK = 12
+#: the plate row of W: its last, the plate's advance per position column (an int64, as the
+#: columns; Numba's index wrap-around reads it as row 2 N + 1)
+PLATE = np.int64(-1)
 # int work rows: the block flags, the active list and each block's position in it, the
 # touched list, the tags of the stuck blocks a step's scan has evaluated (fresh ids from
 # :func:`new_id`), the crossings a step's scan listed; and by fault number, the event (plus 1)
@@ -119,12 +122,6 @@ def new_id(cnt):
     """
     cnt[CNT_STAMPS] += 1
     return cnt[CNT_STAMPS]
-
-
-@kernel
-def plate_row(W):
-    """Index of the plate row of ``W`` (its last): the plate's advance per position column."""
-    return len(W) - 1
 
 
 @kernel
