@@ -178,6 +178,10 @@ class ChunkSink:
         self.seen["largest_n_blocks"] = max(
             self.seen.get("largest_n_blocks", 0), int(events["n_blocks"].max())
         )
+        self.seen["sum_n_blocks"] = self.seen.get("sum_n_blocks", 0) + int(events["n_blocks"].sum())
+        if "duration" in events:
+            total = self.seen.get("sum_duration", 0.0) + float(events["duration"].sum())
+            self.seen["sum_duration"] = total
 
 
 def _joined(frames):

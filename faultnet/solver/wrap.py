@@ -83,15 +83,21 @@ def raise_status(K, status, arrays, model, event, dt):
     cls, template = next(v for name, v in _STATUS_MESSAGES.items() if getattr(K, name) == status)
     bad = int(arrays.out[OUT_HYPOCENTER]) if status == K.STATUS_EVENT_TOO_LONG else None
     node = model.nodes[bad] if bad is not None else "?"
-    raise cls(
-        template.format(
-            node=node,
-            event=event,
-            dt=dt,
-            vmax=arrays.ctrl[CTRL_MAX_VELOCITY],
-            maxd=arrays.ctrl[CTRL_MAX_DURATION],
-        )
+    message = template.format(
+        node=node,
+        event=event,
+        dt=dt,
+        vmax=arrays.ctrl[CTRL_MAX_VELOCITY],
+        maxd=arrays.ctrl[CTRL_MAX_DURATION],
     )
+    nu = model.params.get("nu") if status == K.STATUS_EVENT_TOO_LONG else None
+    if nu:  # the usual cause with a moving plate (a ring of 500 at nu = 0.01 never stops)
+        message += (
+            f"; with nu = {nu:g} the plate drives the blocks during the event, and at such a "
+            "plate velocity they can go on slipping without end: a smaller nu gives events "
+            "that end"
+        )
+    raise cls(message)
 
 
 def _slips(model, arrays):

@@ -92,3 +92,48 @@ def test_a_small_error_is_never_printed_as_zero():
     }  # fmt: skip
     text = format_stats({}, st)
     assert "0.4621 ± 0.0003" in text and "0.500 ± 0.004" in text and "± 0.000 " not in text
+
+
+@pytest.fixture(scope="module")
+def merging(tmp_path_factory):
+    """Catalog files of a ring of 1000 at nu = 1e-3 (events merge) and 1e-4 (they do not)."""
+    folder = tmp_path_factory.mktemp("plate")
+    out = {}
+    for nu, n in [(1e-3, 400), (1e-4, 2000)]:
+        model = faultnet.CarlsonLanger(faultnet.graphs.ring(1000), nu=nu)
+        res = faultnet.simulate(model, n, rng=1, progress=False)
+        out[nu] = fio.write_catalog(res, folder / f"nu{nu:g}.parquet"), res
+    return out
+
+
+def _share(res):
+    """The plate's advance during events over its whole advance, from the events."""
+    ev, nu = res.events, res.metadata["nu"]
+    during = nu * ev["duration"].sum()
+    return during / (ev["t"].iloc[-1] - ev["t"].iloc[0] + during / len(ev))
+
+
+def test_merging_events_get_a_note_with_a_moving_plate(merging):
+    """At nu = 1e-3 the plate makes 96% of its advance inside events on a ring of 1000, and
+    the summary says that events merge; at 1e-4, 41%, and it says nothing."""
+    path, res = merging[1e-3]
+    share = _share(res)
+    assert share > 0.9
+    text = format_stats(res.metadata, catalog_stats(path))
+    mean = res.events["n_blocks"].mean()
+    assert f"the plate made {share:.1%} of its advance during events" in text
+    assert f"events merge ({mean:.1f} of 1000 blocks on average)" in text
+    path, res = merging[1e-4]
+    assert _share(res) < 0.5
+    assert "note        with nu" not in format_stats(res.metadata, catalog_stats(path))
+
+
+def test_the_plate_note_needs_a_moving_plate_and_two_events():
+    from faultnet.io.summary import plate_note
+
+    st = {"events": 5, "t_first": 0.0, "t_last": 1.0, "sum_duration": 4000.0, "sum_n_blocks": 50}
+    assert plate_note({"nu": 1e-3, "n_blocks": 10}, st).startswith("with nu = 0.001")
+    assert plate_note({"nu": 0.0, "n_blocks": 10}, st) is None
+    assert plate_note({"n_blocks": 10}, {**st, "sum_duration": 0.0}) is None
+    assert plate_note({"nu": 1e-3, "n_blocks": 10}, {**st, "events": 1}) is None
+    assert plate_note({"nu": 1e-3}, {k: v for k, v in st.items() if k != "sum_duration"}) is None
