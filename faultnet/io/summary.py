@@ -215,9 +215,9 @@ def catalog_stats(path, transient=None, m_min=None, m_max=None, max_n=MAX_FIT_EV
     out = {"events": n, "transient": transient, "events_fit": max(n - transient, 0)}
     out.update(fit_step=step, t_first=float("nan"), t_last=float("nan"))
     out.update(M_min=math.inf, M_max=-math.inf, largest_n_blocks=0, sum_n_blocks=0)
-    # with a moving plate, the events' durations (plate_note); other catalogs may lack them
-    columns = ["t", "M", "n_blocks", "event"] + (["duration"] if md.get("nu") else [])
-    if md.get("nu"):
+    columns = ["t", "M", "n_blocks", "event"]
+    if md.get("nu"):  # the events' durations, for plate_note (other catalogs may lack them)
+        columns.append("duration")
         out["sum_duration"] = 0.0
     fits, seen, row = [], 0, 0
     try:
