@@ -36,7 +36,7 @@ rest to their path's end; the path is the Taylor series of its equation of motio
 eighth power of the time (:func:`~.physics.lone_path`), whose moments ``I_m`` are exact.
 Four classical RK4 sub-steps per path (16 force evaluations, each with a division) gave the
 same 90th percentiles within 1% on W1-W6 at coefficients 0.05 to 0.6 and took 3-7% of W1's
-and 2-4% of W6's events/s more.  The joining neighbours follow the cubic (:func:`join_cubic`; a
+and 2-4% of W6's events/s more.  The joining neighbours follow the cubic (:func:`join_coeffs`; a
 Taylor start to the fourth power of the time since the join is not accurate enough to keep the
 answer above from overcorrecting: its error is of the same order).
 
@@ -63,18 +63,18 @@ from faultnet.solver._kernels.carlson_langer.work import (
     D,
     V,
 )
-from faultnet.solver._kernels.jit import inline_kernel, kernel
+from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
 
 __all__ = [
     "answer",
-    "join_cubic",
+    "join_coeffs",
     "join_path",
     "neighbour_poly",
+    "path_moments",
     "place_join",
     "respond",
     "stop_answer",
     "stop_shift",
-    "stop_moments",
     "stop_position",
 ]
 
@@ -138,7 +138,7 @@ def stop_answer(m, k, xs, th, h, c0, c1, c2, c3, c4, graph, work):
     if tm > th:
         t0 = tm
         x0 = c0 + tm * (c1 + tm * (c2 + tm * (c3 + tm * c4)))
-    i1, i2, i3, i4 = stop_moments(x0, t0, h, c0, c1, c2, c3, c4)
+    i1, i2, i3, i4 = path_moments(x0, t0, 1.0, h, c0, c1, c2, c3, c4)
     dv, dx = answer(m, k, 0.5 * W[m, SA], i1, i2, i3, i4, graph)
     W[m, SA] += dv
     W[m, SV] += dx
@@ -163,20 +163,21 @@ def place_join(j, th, h, graph, work):
     respond(j, th, i1, i2, i3, i4, graph, work)
 
 
-@kernel
-def join_cubic(n, s, h, W):
-    """Displacement at fraction s of the step of block n joining in it (0 before its join).
+@forced_kernel
+def join_coeffs(n, h, W):
+    """Power-basis coefficients (e0..e3) in the fraction s of the step of block n's join path.
 
-    The cubic from rest at its join (``W[n, VS]``) to the end of its integrated path
-    (:func:`join_path`: ``W[n, SV]``, ``W[n, SA]``).
+    The cubic from rest at its join (``t = W[n, VS]``) to the end of its integrated path
+    (:func:`join_path`: ``W[n, SV]``, ``W[n, SA]``): ``a (s - t)^2 + c (s - t)^3``, valid from
+    the join on.
     """
+    # x(u) = a' u^2 + c' u^3, u = (s - t) / L: x(1) = SV, dx/ds(1) = h SA
     t = W[n, VS]
-    if s <= t:
-        return 0.0
     L = 1.0 - t
     x1, d1 = W[n, SV], h * W[n, SA] * L
-    u = (s - t) / L
-    return u * u * ((3.0 * x1 - d1) + u * (d1 - 2.0 * x1))
+    a = (3.0 * x1 - d1) / (L * L)
+    c = (d1 - 2.0 * x1) / (L * L * L)
+    return a * t * t - c * t * t * t, 3.0 * c * t * t - 2.0 * a * t, a - 3.0 * c * t, c
 
 
 @inline_kernel
@@ -184,54 +185,46 @@ def stop_shift(b, th, h, graph, work):
     """Shift of slipping block b's stop (at fraction th) by its neighbours' earlier crossings.
 
     :func:`stop_position` moves b's neighbours on the step's dense output.  A neighbour that
-    joined before th in fact pushed b from its join on (:func:`join_cubic`), one that stopped
-    before th (its stop already placed, ``W[m, SV]``) held b back: to first order the stop
-    moves by b's answer (:func:`answer`) to those path differences up to th.
+    joined before th in fact pushed b from its join on (its path's cubic,
+    :func:`join_coeffs`), one that stopped before th (its stop already placed, ``W[m, SV]``)
+    held b back: to first order the stop moves by b's answer (:func:`answer`) to those path
+    differences up to th.
     """
     W, IW = work.W, work.IW
     shift = 0.0
     for p in range(graph.indptr[b], graph.indptr[b + 1]):
         m = graph.indices[p]
         fl = IW[FLAG, m]
-        if (fl != JOINING and fl != STOPPING) or not (W[m, VS] < th):
-            continue
         t0 = W[m, VS]
-        c0 = c1 = c2 = c3 = c4 = 0.0
-        if fl == STOPPING:  # a joining block is stuck: no stage row of its own
+        if (fl != JOINING and fl != STOPPING) or not (t0 < th):
+            continue
+        if fl == STOPPING:  # held at W[m, SV] instead of moving on the dense output
+            x0 = W[m, SV]
             c0, c1, c2, c3, c4 = path_dense(m, h, work)
-        half = 0.5 * (th - t0)
-        j1 = j2 = j3 = j4 = 0.0
-        for g in range(4):
-            s = t0 + half * (1.0 + _GX[g])
-            if fl == JOINING:
-                d = join_cubic(m, s, h, W)
-            else:
-                d = W[m, SV] - (c0 + s * (c1 + s * (c2 + s * (c3 + s * c4))))
-            d *= half * _GW[g]
-            u = th - s
-            j1 += d
-            j2 += u * d
-            j3 += 0.5 * u * u * d
-            j4 += u * u * u / 6.0 * d
-        h2 = h * h
-        i1, i2, i3, i4 = h * j1, h2 * j2, h * h2 * j3, h2 * h2 * j4
+        else:  # moving on its cubic instead of resting: 0 - (-cubic)
+            x0 = 0.0
+            e0, e1, e2, e3 = join_coeffs(m, h, W)
+            c0, c1, c2, c3, c4 = -e0, -e1, -e2, -e3, 0.0
+        i1, i2, i3, i4 = path_moments(x0, t0, th, h, c0, c1, c2, c3, c4)
         _, dx = answer(b, graph.kval[p], 0.5 * W[b, V], i1, i2, i3, i4, graph)
         shift += dx
     return shift
 
 
 @kernel
-def stop_moments(xs, th, h, c0, c1, c2, c3, c4):
-    """Moments I1..I4 of ``xs - p(s)`` over ``[th, 1]``: a stop at ``xs`` against the step's
-    dense output ``p`` (coefficients c0..c4 in the fraction s of the step of length h).
+def path_moments(x0, t0, t1, h, c0, c1, c2, c3, c4):
+    """Moments I1..I4 over ``[t0, t1]`` of ``x0 - p(s)``, weighted ``(t1 - s)^(m - 1) / (m -
+    1)!``: a block held at ``x0`` against a path ``p`` (coefficients c0..c4 in the fraction s
+    of the step of length h; the step's dense output, or a join's cubic).  Four-point
+    Gauss-Legendre, exact for these integrands (degree 7 at most).
     """
-    half = 0.5 * (1.0 - th)
+    half = 0.5 * (t1 - t0)
     j1 = j2 = j3 = j4 = 0.0
     for g in range(4):
-        s = th + half * (1.0 + _GX[g])
+        s = t0 + half * (1.0 + _GX[g])
         p = c0 + s * (c1 + s * (c2 + s * (c3 + s * c4)))
-        d = (xs - p) * half * _GW[g]
-        u = 1.0 - s
+        d = (x0 - p) * half * _GW[g]
+        u = t1 - s
         j1 += d
         j2 += u * d
         j3 += 0.5 * u * u * d
@@ -261,15 +254,10 @@ def neighbour_poly(b, h, th, graph, work):
             g3 += k * c3
             g4 += k * c4
         elif IW[FLAG, n] == JOINING and W[n, VS] < th:
-            # x(u) = a u^2 + c u^3, u = (s - t) / L: x(1) = SV, dx/ds(1) = h SA
-            t = W[n, VS]
-            L = 1.0 - t
-            x1, d1 = W[n, SV], h * W[n, SA] * L
-            a = (3.0 * x1 - d1) / (L * L)
-            c = (d1 - 2.0 * x1) / (L * L * L)
-            g1 += k * (3.0 * c * t * t - 2.0 * a * t)
-            g2 += k * (a - 3.0 * c * t)
-            g3 += k * c
+            _, e1, e2, e3 = join_coeffs(n, h, W)
+            g1 += k * e1
+            g2 += k * e2
+            g3 += k * e3
     return g1, g2, g3, g4
 
 
