@@ -155,7 +155,7 @@ def _list(b, th, IW, loc):
 
 
 @inline_kernel
-def block_crossings(h, q, i, pos, vmax, best, who, kind, keep, stamp, graph, work):
+def block_crossings(h, q, i, pos, vmax, best, who, kind, keep, stamp, K, graph, work):
     """Fold the crossings owned by active block i into (best, who, kind).
 
     Block i's own stop, and the joins of its stuck neighbours, whose end-of-step forces are
@@ -167,7 +167,8 @@ def block_crossings(h, q, i, pos, vmax, best, who, kind, keep, stamp, graph, wor
     next to several slipping ones is evaluated (and its join located) once per step, and
     listed again from what was kept.  Returns (best, who, kind, status); a non-finite or
     runaway velocity (not below ``vmax``) stops the scan with its status and the block in
-    ``who``.  Inlined into the step's last pass: ``graph`` and ``work`` cost nothing here.
+    ``who``.  Inlined into the step's last pass: ``graph`` and ``work`` cost nothing here, and
+    ``K`` is the step's stage rows.
     """
     W, IW, loc = work.W, work.IW, work.loc
     indptr, indices = graph.indptr, graph.indices
@@ -175,7 +176,7 @@ def block_crossings(h, q, i, pos, vmax, best, who, kind, keep, stamp, graph, wor
     if not (v1 < vmax):
         return best, i, kind, STATUS_NONFINITE if v1 != v1 else STATUS_RUNAWAY
     if v1 <= 0.0 or W[i, A] < 0.0:
-        th = stick_theta(h, q, i, W, stage_rows(work))
+        th = stick_theta(h, q, i, W, K)
         if th < best:
             best, who, kind = th, i, STICK
         if keep and th <= 1.0:

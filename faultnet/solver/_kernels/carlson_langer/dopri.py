@@ -204,7 +204,7 @@ def dopri_step(h, nact, scan, vmax, graph, work):
             # P2 holds every active block's end position (P is being updated)
             sq, si = np.int64(q), np.int64(i)  # signed again: the scan's one signature
             best, who, kind, status = block_crossings(
-                h, sq, si, P2, vmax, best, who, kind, keep, stamp, graph, work
+                h, sq, si, P2, vmax, best, who, kind, keep, stamp, K, graph, work
             )
             if status != STATUS_OK:
                 return best, who, kind, status

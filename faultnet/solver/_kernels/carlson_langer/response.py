@@ -96,6 +96,19 @@ def answer(n, k, vbar, i1, i2, i3, i4, graph):
     return k * (i1 + g * i2 - dg * i3), k * (i2 + g * i3 - dg * i4)
 
 
+@forced_kernel
+def _join_answer(n, k, i1, i2, i3, i4, graph, work):
+    """Joining block n's answer (:func:`answer`, at its path's mean velocity) through a spring
+    k to a neighbour's path difference with moments i1..i4: its path's end (``W[n, SV]``,
+    ``W[n, SA]``, :func:`join_path`) and end position corrected."""
+    W = work.W
+    dv, dx = answer(n, k, 0.5 * W[n, SA], i1, i2, i3, i4, graph)
+    W[n, SA] += dv
+    W[n, SV] += dx
+    W[n, P2] = W[n, D] + W[n, SV]
+    work.loc[LOC_MOVED] += abs(dx)
+
+
 @kernel
 def respond(b, th, i1, i2, i3, i4, graph, work):
     """Correct the velocity and position of b's moving neighbours at the end of the step.
@@ -115,11 +128,7 @@ def respond(b, th, i1, i2, i3, i4, graph, work):
             W[n, P2] = W[n, DN]
             work.loc[LOC_MOVED] += abs(dx)
         elif IW[FLAG, n] == JOINING and W[n, VS] < th:
-            dv, dx = answer(n, kval[p], 0.5 * W[n, SA], i1, i2, i3, i4, graph)
-            W[n, SA] += dv
-            W[n, SV] += dx
-            W[n, P2] = W[n, D] + W[n, SV]
-            work.loc[LOC_MOVED] += abs(dx)
+            _join_answer(n, kval[p], i1, i2, i3, i4, graph, work)
 
 
 @kernel
@@ -139,11 +148,7 @@ def stop_answer(m, k, xs, th, h, c0, c1, c2, c3, c4, graph, work):
         t0 = tm
         x0 = c0 + tm * (c1 + tm * (c2 + tm * (c3 + tm * c4)))
     i1, i2, i3, i4 = path_moments(x0, t0, 1.0, h, c0, c1, c2, c3, c4)
-    dv, dx = answer(m, k, 0.5 * W[m, SA], i1, i2, i3, i4, graph)
-    W[m, SA] += dv
-    W[m, SV] += dx
-    W[m, P2] = W[m, D] + W[m, SV]
-    work.loc[LOC_MOVED] += abs(dx)
+    _join_answer(m, k, i1, i2, i3, i4, graph, work)
 
 
 @kernel
