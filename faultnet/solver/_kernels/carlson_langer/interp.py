@@ -119,7 +119,7 @@ def _stop(b, th, h, graph, work):
     W, IW = work.W, work.IW
     c0, c1, c2, c3, c4 = path_dense(b, h, work)
     xs = stop_position(b, th, h, graph, work) + stop_shift(b, th, h, graph, work)
-    i1, i2, i3, i4 = path_moments(xs, th, 1.0, h, c0, c1, c2, c3, c4)
+    i1, i2, i3, i4 = path_moments(xs, th, 1.0, h, 0.0, c0, c1, c2, c3, c4)
     W[b, SV] = xs
     work.loc[LOC_MOVED] += abs(xs - W[b, P2])
     W[b, P2] = xs

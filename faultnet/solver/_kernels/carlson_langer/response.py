@@ -36,7 +36,7 @@ rest to their path's end; the path is the Taylor series of its equation of motio
 eighth power of the time (:func:`~.physics.lone_path`), whose moments ``I_m`` are exact.
 Four classical RK4 sub-steps per path (16 force evaluations, each with a division) gave the
 same 90th percentiles within 1% on W1-W6 at coefficients 0.05 to 0.6 and took 3-7% of W1's
-and 2-4% of W6's events/s more.  The joining neighbours follow the cubic (:func:`join_coeffs`; a
+and 2-4% of W6's events/s more.  The joining neighbours follow the cubic (:func:`join_cubic`; a
 Taylor start to the fourth power of the time since the join is not accurate enough to keep the
 answer above from overcorrecting: its error is of the same order).
 
@@ -67,7 +67,7 @@ from faultnet.solver._kernels.jit import forced_kernel, inline_kernel, kernel
 
 __all__ = [
     "answer",
-    "join_coeffs",
+    "join_cubic",
     "join_path",
     "neighbour_poly",
     "path_moments",
@@ -147,7 +147,7 @@ def stop_answer(m, k, xs, th, h, c0, c1, c2, c3, c4, graph, work):
     if tm > th:
         t0 = tm
         x0 = c0 + tm * (c1 + tm * (c2 + tm * (c3 + tm * c4)))
-    i1, i2, i3, i4 = path_moments(x0, t0, 1.0, h, c0, c1, c2, c3, c4)
+    i1, i2, i3, i4 = path_moments(x0, t0, 1.0, h, 0.0, c0, c1, c2, c3, c4)
     _join_answer(m, k, i1, i2, i3, i4, graph, work)
 
 
@@ -169,20 +169,17 @@ def place_join(j, th, h, graph, work):
 
 
 @forced_kernel
-def join_coeffs(n, h, W):
-    """Power-basis coefficients (e0..e3) in the fraction s of the step of block n's join path.
+def join_cubic(n, h, W):
+    """Block n's path after its join in the step, ``a (s - t)^2 + c (s - t)^3``: (t, a, c).
 
-    The cubic from rest at its join (``t = W[n, VS]``) to the end of its integrated path
-    (:func:`join_path`: ``W[n, SV]``, ``W[n, SA]``): ``a (s - t)^2 + c (s - t)^3``, valid from
-    the join on.
+    The cubic in the fraction s of the step from rest at its join (``t = W[n, VS]``) to the
+    end of its integrated path (:func:`join_path`: ``W[n, SV]``, ``W[n, SA]``).
     """
     # x(u) = a' u^2 + c' u^3, u = (s - t) / L: x(1) = SV, dx/ds(1) = h SA
     t = W[n, VS]
     L = 1.0 - t
     x1, d1 = W[n, SV], h * W[n, SA] * L
-    a = (3.0 * x1 - d1) / (L * L)
-    c = (d1 - 2.0 * x1) / (L * L * L)
-    return a * t * t - c * t * t * t, 3.0 * c * t * t - 2.0 * a * t, a - 3.0 * c * t, c
+    return t, (3.0 * x1 - d1) / (L * L), (d1 - 2.0 * x1) / (L * L * L)
 
 
 @inline_kernel
@@ -191,7 +188,7 @@ def stop_shift(b, th, h, graph, work):
 
     :func:`stop_position` moves b's neighbours on the step's dense output.  A neighbour that
     joined before th in fact pushed b from its join on (its path's cubic,
-    :func:`join_coeffs`), one that stopped before th (its stop already placed, ``W[m, SV]``)
+    :func:`join_cubic`), one that stopped before th (its stop already placed, ``W[m, SV]``)
     held b back: to first order the stop moves by b's answer (:func:`answer`) to those path
     differences up to th.
     """
@@ -204,30 +201,34 @@ def stop_shift(b, th, h, graph, work):
         if (fl != JOINING and fl != STOPPING) or not (t0 < th):
             continue
         if fl == STOPPING:  # held at W[m, SV] instead of moving on the dense output
-            x0 = W[m, SV]
+            x0, z0 = W[m, SV], 0.0
             c0, c1, c2, c3, c4 = path_dense(m, h, work)
-        else:  # moving on its cubic instead of resting: 0 - (-cubic)
-            x0 = 0.0
-            e0, e1, e2, e3 = join_coeffs(m, h, W)
-            c0, c1, c2, c3, c4 = -e0, -e1, -e2, -e3, 0.0
-        i1, i2, i3, i4 = path_moments(x0, t0, th, h, c0, c1, c2, c3, c4)
+        else:  # moving on its cubic in s - t0 instead of resting: 0 - (-cubic)
+            x0, z0 = 0.0, t0
+            _, a, c = join_cubic(m, h, W)
+            c0, c1, c2, c3, c4 = 0.0, 0.0, -a, -c, 0.0
+        i1, i2, i3, i4 = path_moments(x0, t0, th, h, z0, c0, c1, c2, c3, c4)
         _, dx = answer(b, graph.kval[p], 0.5 * W[b, V], i1, i2, i3, i4, graph)
         shift += dx
     return shift
 
 
 @kernel
-def path_moments(x0, t0, t1, h, c0, c1, c2, c3, c4):
-    """Moments I1..I4 over ``[t0, t1]`` of ``x0 - p(s)``, weighted ``(t1 - s)^(m - 1) / (m -
-    1)!``: a block held at ``x0`` against a path ``p`` (coefficients c0..c4 in the fraction s
-    of the step of length h; the step's dense output, or a join's cubic).  Four-point
-    Gauss-Legendre, exact for these integrands (degree 7 at most).
+def path_moments(x0, t0, t1, h, z0, c0, c1, c2, c3, c4):
+    """Moments I1..I4 of a path difference ``x0 - p(s)`` over ``[t0, t1]``.
+
+    ``I_m = h^m int (t1 - s)^(m - 1) / (m - 1)! (x0 - p(s)) ds`` in the fraction s of the step
+    of length h, where ``p(s) = c0 + c1 z + c2 z^2 + c3 z^3 + c4 z^4``, ``z = s - z0``: the
+    step's dense output (``z0 = 0``) against a block held at ``x0``, or a join's cubic about
+    its join (``x0 = 0``, the cubic negated).  Four-point Gauss-Legendre, exact for these
+    integrands (degree 7 at most).
     """
     half = 0.5 * (t1 - t0)
     j1 = j2 = j3 = j4 = 0.0
     for g in range(4):
         s = t0 + half * (1.0 + _GX[g])
-        p = c0 + s * (c1 + s * (c2 + s * (c3 + s * c4)))
+        z = s - z0
+        p = c0 + z * (c1 + z * (c2 + z * (c3 + z * c4)))
         d = (x0 - p) * half * _GW[g]
         u = t1 - s
         j1 += d
@@ -243,9 +244,10 @@ def neighbour_poly(b, h, th, graph, work):
     """``G(s)``'s coefficients: the force on b from its moving neighbours' motion in the step.
 
     Moving: slipping, or slipping until a stop in this step, on the step's dense output; and
-    the neighbours joining before ``th`` (-1.0: none), whose paths :func:`join_path` has
-    integrated (``W[m, SV]``, ``W[m, SA]`` at the end of the step), on the cubic from rest at
-    their join (``W[m, VS]``) to that end.  The constant term is left out: it cancels.
+    the neighbours n joining before ``th`` (-1.0: none), whose paths :func:`join_path` has
+    integrated (``W[n, SV]``, ``W[n, SA]`` at the end of the step), on the cubic from rest at
+    their join (``W[n, VS]``) to that end (:func:`join_cubic`).  The constant term is left
+    out: it cancels.
     """
     W, IW = work.W, work.IW
     g1 = g2 = g3 = g4 = 0.0
@@ -259,10 +261,10 @@ def neighbour_poly(b, h, th, graph, work):
             g3 += k * c3
             g4 += k * c4
         elif IW[FLAG, n] == JOINING and W[n, VS] < th:
-            _, e1, e2, e3 = join_coeffs(n, h, W)
-            g1 += k * e1
-            g2 += k * e2
-            g3 += k * e3
+            t, a, c = join_cubic(n, h, W)
+            g1 += k * (3.0 * c * t * t - 2.0 * a * t)
+            g2 += k * (a - 3.0 * c * t)
+            g3 += k * c
     return g1, g2, g3, g4
 
 
