@@ -41,7 +41,7 @@ from faultnet.solver.wrap import raise_status, run_metadata, wrap_result
 __all__ = ["COMPILING_LABEL", "Simulator", "next_call_size"]
 
 #: the progress bar's label while the first run compiles the kernels
-COMPILING_LABEL = "faultnet: compiling the kernels (first run only, 12-25 s)"
+COMPILING_LABEL = "faultnet: compiling the kernels (first run only, 10-20 s)"
 #: ``record_profiles`` keeps at most this many values (n_events x n_blocks)
 MAX_PROFILE_VALUES = 20_000_000
 #: memory of one event in a chunk: the kernels' catalog rows and the events frame made of them
