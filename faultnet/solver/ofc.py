@@ -58,7 +58,7 @@ from faultnet.solver._kernels.layout import (
     SCAL_W,
 )
 from faultnet.solver.arrays import catalog_state
-from faultnet.solver.result import SimulationResult, node_labels
+from faultnet.solver.result import SimulationResult, label_array, node_labels
 from faultnet.solver.simulator import next_call_size
 
 __all__ = ["OFC_COLUMNS", "OFCSimulator", "ofc_events_frame", "ofc_metadata", "simulate_ofc"]
@@ -142,9 +142,11 @@ def initial_state(model, x0, rng):
     return _forces_state(model, x0, "x0"), None, "given"
 
 
-def ofc_events_frame(ev0, cat_f, cat_i, model) -> pd.DataFrame:
+def ofc_events_frame(ev0, cat_f, cat_i, model, labels=None) -> pd.DataFrame:
     """One row per avalanche (:data:`OFC_COLUMNS`), and ``fault`` (the hypocentre's) and
-    ``n_faults`` on a network of faults."""
+    ``n_faults`` on a network of faults; ``labels``: the model's nodes and faults as their
+    :func:`~faultnet.solver.result.label_array` (by default made here)."""
+    nodes, faults = labels or (model.nodes, model.faults)
     S = cat_f[:, OFC_CAT_S]
     with np.errstate(divide="ignore"):
         M = np.log(S)
@@ -156,11 +158,11 @@ def ofc_events_frame(ev0, cat_f, cat_i, model) -> pd.DataFrame:
         "n_blocks": cat_i[:, OFC_CAT_BLOCKS],
         "S": S,
         "M": M,
-        "hypocenter": node_labels(model.nodes, hyp),
+        "hypocenter": node_labels(nodes, hyp),
         "n_generations": cat_i[:, OFC_CAT_GENERATIONS],
     }
-    if model.faults is not None:
-        columns["fault"] = node_labels(model.faults, model.fault_number[hyp])
+    if faults is not None:
+        columns["fault"] = node_labels(faults, model.fault_number[hyp])
         columns["n_faults"] = cat_i[:, OFC_CAT_FAULTS]
     return pd.DataFrame(columns)
 
@@ -247,6 +249,8 @@ class OFCSimulator:
         self._ctrl = np.zeros(OFC_CTRL_SIZE, dtype=np.float64)
         self._ctrl[OFC_CTRL_MAX_TOPPLINGS] = _NO_LIMIT if max_topplings is None else max_topplings
         self._ctrl[OFC_CTRL_REBUILD] = 1.0
+        faults = None if model.faults is None else label_array(model.faults)
+        self._labels = label_array(model.nodes), faults  # for every chunk's frame
 
     @property
     def model(self) -> OFC:
@@ -309,7 +313,7 @@ class OFCSimulator:
             n_topplings=int(cnt[OFC_CNT_TOPPLINGS]),
             n_generations=int(cnt[OFC_CNT_GENERATIONS]),
         )
-        events = ofc_events_frame(ev0, cat_f, cat_i, self._model)
+        events = ofc_events_frame(ev0, cat_f, cat_i, self._model, self._labels)
         return SimulationResult(events, self.state, self._model, 0.0, md)
 
     def _loop(self, n_events, cat_f, cat_i, progress):

@@ -25,6 +25,7 @@ __all__ = [
     "SimulationResult",
     "events_frame",
     "fault_slips_frame",
+    "label_array",
     "slips_frame",
     "traces_frame",
 ]
@@ -34,22 +35,35 @@ EVENT_COLUMNS = ["event", "t", "duration", "n_blocks", "S", "M", "hypocenter", "
 FAULT_COLUMNS = ["fault", "n_faults"]
 
 
+def label_array(labels):
+    """``labels`` (a model's nodes, or its faults) as what :func:`node_labels` indexes: an int64
+    array where every label is an int, else an object array (tuple labels stay tuples), a
+    ``range`` as it is.  O(N): a simulator makes it once, not for every chunk's frames (on a
+    1024^2 lattice it takes 0.13 s)."""
+    if isinstance(labels, range | np.ndarray):  # SparseGraph models: blocks are 0..n-1
+        return labels
+    if all(isinstance(n, (int, np.integer)) and not isinstance(n, bool) for n in labels):
+        return np.asarray(labels, dtype=np.int64)
+    out = np.empty(len(labels), dtype=object)
+    out[:] = list(labels)  # element-wise: tuple labels stay tuples
+    return out
+
+
 def node_labels(nodes, idx):
-    """Map block indices to graph node labels (integer dtype when labels are ints)."""
+    """Map block indices to graph node labels (integer dtype when labels are ints); ``nodes``
+    the labels or their :func:`label_array`."""
     idx = np.asarray(idx, dtype=np.int64)
-    if isinstance(nodes, range):  # SparseGraph models: blocks are 0..n-1
+    nodes = label_array(nodes)
+    if isinstance(nodes, range):
         return nodes.start + nodes.step * idx
-    if all(isinstance(n, (int, np.integer)) and not isinstance(n, bool) for n in nodes):
-        return np.asarray(nodes, dtype=np.int64)[idx]
-    labels = np.empty(len(nodes), dtype=object)
-    labels[:] = list(nodes)  # element-wise: tuple labels stay tuples
-    return labels[idx]
+    return nodes[idx]
 
 
 def events_frame(ev0, cat_f, cat_i, nodes, faults=None, fault_number=None):
     """One row per event: event, t, duration, n_blocks, S, M, hypocenter, n_steps; on a network
     of faults (``faults``: the labels, ``fault_number``: each block's index into them) also
-    fault (the hypocentre's) and n_faults (the faults among the blocks that slipped)."""
+    fault (the hypocentre's) and n_faults (the faults among the blocks that slipped).  The
+    labels may be given as their :func:`label_array`."""
     n = cat_f.shape[0]
     S = cat_f[:, CAT_S]
     with np.errstate(divide="ignore"):

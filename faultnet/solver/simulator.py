@@ -35,7 +35,7 @@ from faultnet.solver._kernels.layout import (
 )
 from faultnet.solver.arrays import KernelArrays, initial_state, trace_indices
 from faultnet.solver.options import RunOptions
-from faultnet.solver.result import SimulationResult, events_frame
+from faultnet.solver.result import SimulationResult, events_frame, label_array
 from faultnet.solver.wrap import raise_status, run_metadata, wrap_result
 
 __all__ = ["COMPILING_LABEL", "Simulator", "next_call_size"]
@@ -129,6 +129,8 @@ class Simulator:
             )
         self._options = RunOptions.coerce(options)
         self._dt = self._options.step(model)
+        faults = None if model.faults is None else label_array(model.faults)
+        self._labels = label_array(model.nodes), faults  # for every chunk's frames
         state, self._seed = initial_state(model, x0, rng)
         self._initial = "random U[0, 0.01)" if x0 is None else "given"
         self._max_slip_rows = check_int("max_slip_rows", max_slip_rows, minimum=0)
@@ -269,8 +271,11 @@ class Simulator:
             block_steps=block_steps,
         )
         model = self._model
-        events = events_frame(ev0, cat_f, cat_i, model.nodes, model.faults, model.fault_number)
-        return wrap_result(self._model, arr, self.state, self._dt, events, md, record_profiles)
+        nodes, faults = self._labels
+        events = events_frame(ev0, cat_f, cat_i, nodes, faults, model.fault_number)
+        return wrap_result(
+            model, arr, self.state, self._dt, events, md, record_profiles, self._labels
+        )
 
     @property
     def compiles(self) -> bool:

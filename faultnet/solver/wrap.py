@@ -100,10 +100,10 @@ def raise_status(K, status, arrays, model, event, dt):
     raise cls(message)
 
 
-def _slips(model, arrays):
+def _slips(nodes, arrays):
     parts = arrays.slip_parts or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))]
     event, node, slip = (np.concatenate([p[c] for p in parts]) for c in range(3))
-    slips = slips_frame(event, node, slip, model.nodes)
+    slips = slips_frame(event, node, slip, nodes)
     slips.attrs["truncated"] = arrays.slips_truncated
     if arrays.slips_truncated:
         warnings.warn(
@@ -114,20 +114,23 @@ def _slips(model, arrays):
     return slips
 
 
-def _fault_slips(model, arrays):
+def _fault_slips(faults, arrays):
     parts = arrays.fault_parts or [(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros(0))]
     event, fault, slip = (np.concatenate([p[c] for p in parts]) for c in range(3))
-    return fault_slips_frame(event, fault, slip, model.faults)
+    return fault_slips_frame(event, fault, slip, faults)
 
 
-def wrap_result(model, arrays, state, dt, events, md, record_profiles) -> SimulationResult:
-    """The chunk's :class:`SimulationResult`, with the work counters added to ``md``."""
+def wrap_result(model, arrays, state, dt, events, md, record_profiles, labels) -> SimulationResult:
+    """The chunk's :class:`SimulationResult`, with the work counters added to ``md``;
+    ``labels``: the model's nodes and faults (None without), or their
+    :func:`~faultnet.solver.result.label_array`."""
+    nodes, faults = labels
     md.update({name: int(arrays.cnt[i]) for name, i in _COUNTERS.items()})
     arrays.cnt[list(_COUNTERS.values())] = 0
     traces = None
     if arrays.trace_idx.size:
         rows = int(arrays.cnt[CNT_TRACE_ROWS])
-        traces = traces_frame(arrays.trace[:rows], arrays.trace_idx, model.nodes)
+        traces = traces_frame(arrays.trace[:rows], arrays.trace_idx, nodes)
         traces.attrs["truncated"] = bool(arrays.cnt[CNT_TRACE_FULL])
     return SimulationResult(
         events=events,
@@ -135,8 +138,8 @@ def wrap_result(model, arrays, state, dt, events, md, record_profiles) -> Simula
         model=model,
         dt=dt,
         metadata=md,
-        slips=_slips(model, arrays) if arrays.record_slips else None,
+        slips=_slips(nodes, arrays) if arrays.record_slips else None,
         profiles=arrays.profiles if record_profiles else None,
         traces=traces,
-        fault_slips=_fault_slips(model, arrays) if model.faults is not None else None,
+        fault_slips=_fault_slips(faults, arrays) if faults is not None else None,
     )
