@@ -24,6 +24,8 @@ def test_label_array_indexes_as_the_labels_do(labels, want):
     once = label_array(labels)
     for got in (node_labels(labels, IDX), node_labels(once, IDX)):
         assert list(got) == want
-        assert all(type(g) is type(w) or isinstance(g, np.integer) for g, w in zip(got, want, strict=True))
+        assert all(
+            type(g) is type(w) or isinstance(g, np.integer) for g, w in zip(got, want, strict=True)
+        )
     ints = all(isinstance(w, int) and not isinstance(w, bool) for w in want)
     assert (node_labels(once, IDX).dtype == np.int64) == ints
