@@ -249,8 +249,7 @@ class OFCSimulator:
         self._ctrl = np.zeros(OFC_CTRL_SIZE, dtype=np.float64)
         self._ctrl[OFC_CTRL_MAX_TOPPLINGS] = _NO_LIMIT if max_topplings is None else max_topplings
         self._ctrl[OFC_CTRL_REBUILD] = 1.0
-        faults = None if model.faults is None else label_array(model.faults)
-        self._labels = label_array(model.nodes), faults  # for every chunk's frame
+        self._labels = label_array(model.nodes), label_array(model.faults)  # for every chunk
 
     @property
     def model(self) -> OFC:

@@ -38,9 +38,9 @@ FAULT_COLUMNS = ["fault", "n_faults"]
 def label_array(labels):
     """``labels`` (a model's nodes, or its faults) as what :func:`node_labels` indexes: an int64
     array where every label is an int, else an object array (tuple labels stay tuples), a
-    ``range`` as it is.  O(N): a simulator makes it once, not for every chunk's frames (on a
-    1024^2 lattice it takes 0.13 s)."""
-    if isinstance(labels, range | np.ndarray):  # SparseGraph models: blocks are 0..n-1
+    ``range`` as it is (None, a model without faults, too).  O(N): a simulator makes it once,
+    not for every chunk's frames (on a 1024^2 lattice it takes 0.13 s)."""
+    if labels is None or isinstance(labels, range | np.ndarray):  # range: a SparseGraph's
         return labels
     if all(isinstance(n, (int, np.integer)) and not isinstance(n, bool) for n in labels):
         return np.asarray(labels, dtype=np.int64)

@@ -129,8 +129,7 @@ class Simulator:
             )
         self._options = RunOptions.coerce(options)
         self._dt = self._options.step(model)
-        faults = None if model.faults is None else label_array(model.faults)
-        self._labels = label_array(model.nodes), faults  # for every chunk's frames
+        self._labels = label_array(model.nodes), label_array(model.faults)  # for every chunk
         state, self._seed = initial_state(model, x0, rng)
         self._initial = "random U[0, 0.01)" if x0 is None else "given"
         self._max_slip_rows = check_int("max_slip_rows", max_slip_rows, minimum=0)

@@ -29,3 +29,7 @@ def test_label_array_indexes_as_the_labels_do(labels, want):
         )
     ints = all(isinstance(w, int) and not isinstance(w, bool) for w in want)
     assert (node_labels(once, IDX).dtype == np.int64) == ints
+
+
+def test_a_model_without_faults_has_no_fault_labels():
+    assert label_array(None) is None
