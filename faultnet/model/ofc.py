@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -233,10 +234,10 @@ class OFC:
         summed = 1.0 + np.asarray(adj.sum(axis=1)).ravel() + self.frame
         return np.where(plain, 1.0 + self.k * (deg + self.wall_values), summed)
 
-    @property
+    @cached_property
     def alpha(self) -> float | None:
         """OFC's conservation parameter ``k / K``, where every spring has the model's ``k`` and
-        every block the same stiffness ``K``; None otherwise."""
+        every block the same stiffness ``K``; None otherwise.  Computed once."""
         stiff = self.stiffness
         if np.any(self.adjacency.data != self.k) or np.any(stiff != stiff[0]):
             return None
@@ -266,11 +267,18 @@ class OFC:
             "k": self.k,
             "alpha": self.alpha,
             "update": self.update,
-            "heterogeneous": bool(np.any(self.adjacency.data != self.k)),
+            "heterogeneous": self._array_summary[0],
         }
-        if np.any(self.wall_values):
-            params["frame_springs"] = float(self.wall_values.sum())
+        if self._array_summary[1]:
+            params["frame_springs"] = self._array_summary[1]
         return params
+
+    @cached_property
+    def _array_summary(self) -> tuple:
+        """What :attr:`params` reads from the springs and walls, computed once (every chunk of
+        a run records it): whether the springs differ from ``k``, the frame springs' total."""
+        frame_springs = float(self.wall_values.sum()) if np.any(self.wall_values) else 0.0
+        return bool(np.any(self.adjacency.data != self.k)), frame_springs
 
     def __repr__(self):
         p = self.params

@@ -16,6 +16,7 @@ bit, which is what makes checkpointed runs resumable.
 
 from __future__ import annotations
 
+import copy
 import time
 
 import numpy as np
@@ -143,6 +144,7 @@ class Simulator:
             model, state, self._options, self._dt, record_slips, trace_idx, rows, self._solo_cache
         )
         self._checked_cache = False
+        self._metadata = self._run_metadata()
 
     # -- what the simulation is --------------------------------------------------------------
 
@@ -211,6 +213,7 @@ class Simulator:
         dt = self._options.step(model)
         self._arrays.set_parameters(model, dt)
         self._model, self._dt = model, dt
+        self._metadata = self._run_metadata()
 
     # -- running -----------------------------------------------------------------------------
 
@@ -260,7 +263,7 @@ class Simulator:
         cat_i = np.zeros((n_events, CAT_I_SIZE), dtype=np.int64)
         wall, steps, block_steps = self._loop(n_events, ev0, cat_f, cat_i, progress)
         arr.take_slips(self._max_slip_rows)
-        md = run_metadata(self._model, self._options, self._dt, self._seed, self._solo_cache)
+        md = copy.deepcopy(self._metadata)
         md.update(
             first_event=ev0,
             n_events=n_events,
@@ -275,6 +278,11 @@ class Simulator:
         return wrap_result(
             model, arr, self.state, self._dt, events, md, record_profiles, self._labels
         )
+
+    def _run_metadata(self):
+        """The metadata every chunk of the current model starts from (copied per chunk: its
+        crossing treatment and parameter summary take 15 ms on a 1024^2 lattice)."""
+        return run_metadata(self._model, self._options, self._dt, self._seed, self._solo_cache)
 
     @property
     def compiles(self) -> bool:

@@ -209,6 +209,21 @@ def test_set_model_equals_a_fresh_run_from_the_state():
     sim.set_model(new.with_params(k=9.0))  # other spring constants are fine
 
 
+def test_chunk_metadata_follows_set_model_and_is_each_chunks_own():
+    model = _ring(alpha=0.5)
+    sim = faultnet.Simulator(model, rng=4)
+    first = sim.advance(50, progress=False)
+    first.metadata["options"]["rtol"] = "changed by a user"
+    first.metadata["alpha"] = -1.0
+    second = sim.advance(50, progress=False)
+    assert second.metadata["alpha"] == 0.5 and second.metadata["options"]["rtol"] == 1e-6
+    sim.set_model(model.with_params(alpha=2.0))
+    third = sim.advance(50, progress=False)
+    fresh = faultnet.simulate(model.with_params(alpha=2.0), 50, x0=second.state, progress=False)
+    assert third.metadata["alpha"] == 2.0 and third.metadata["dt"] == fresh.metadata["dt"]
+    assert third.metadata["dt"] != second.metadata["dt"]
+
+
 def test_options_are_recorded_and_change_results():
     model = _ring()
     exact = faultnet.RunOptions(crossings="exact")
