@@ -11,7 +11,7 @@ import numba as nb
 import numpy as np
 import pytest
 
-from faultnet.solver._kernels.bundles import graph_bundle, padded_neighbours, work_array
+from faultnet.solver._kernels.bundles import DIAG, graph_bundle, padded_neighbours, work_array
 from faultnet.solver._kernels.carlson_langer.physics import force, force_hot
 from faultnet.solver._kernels.carlson_langer.work import F0, N_WORK, P
 
@@ -19,7 +19,7 @@ from faultnet.solver._kernels.carlson_langer.work import F0, N_WORK, P
 @nb.njit(cache=False)
 def _forces(W, graph):
     """(force, force_hot) of every block at the positions in column P."""
-    n = graph.diag.shape[0]
+    n = graph.block.shape[0]
     out = np.empty((n, 2))
     for i in range(n):
         out[i, 0] = force(i, P, W, graph)
@@ -53,7 +53,7 @@ def test_uniform_force_is_the_csr_sum_bit_for_bit(seed):
         s = 0.0
         for p in range(graph.indptr[i], graph.indptr[i + 1]):
             s += W[graph.indices[p], P]
-        assert got[i, 1] == W[i, F0] + 9.5 * s - graph.diag[i] * W[i, P]  # bit for bit
+        assert got[i, 1] == W[i, F0] + 9.5 * s - graph.block[i, DIAG] * W[i, P]  # bit for bit
         # the general force (kval per spring) agrees to round-off
         assert got[i, 0] == pytest.approx(got[i, 1], rel=0, abs=1e-14)
     assert not W[2 * n].any()  # the ghost row stays zero
@@ -82,5 +82,5 @@ def test_a_graph_with_hubs_gets_no_table_and_the_general_force():
     got = _forces(W, graph)
     np.testing.assert_array_equal(got[:, 0], got[:, 1])
     adj = nx.to_numpy_array(g, nodelist=range(40))
-    want = W[:40, F0] + 4.0 * adj @ W[:40, P] - graph.diag * W[:40, P]
+    want = W[:40, F0] + 4.0 * adj @ W[:40, P] - graph.block[:, DIAG] * W[:40, P]
     np.testing.assert_allclose(got[:, 0], want, rtol=0, atol=1e-14)

@@ -16,6 +16,12 @@ from collections import namedtuple
 import numpy as np
 
 __all__ = [
+    "BLOCK_SIZE",
+    "CFR",
+    "DIAG",
+    "ETA_SUM",
+    "FRAME",
+    "OMS",
     "Graph",
     "KelvinGraph",
     "OFCGraph",
@@ -36,14 +42,26 @@ __all__ = [
     "work_array",
 ]
 
+#: Columns of ``Graph.block`` (float64[N, BLOCK_SIZE]), one row of parameters per block:
+#: ``DIAG`` its total stiffness (1 + the sum of its springs and its frame springs), ``OMS``
+#: 1 - sigma (the dynamic friction at rest), ``CFR`` 2 alpha / (1 - sigma) (the friction's
+#: velocity weakening), ``FRAME`` its frame springs' stiffness (``k wall``, part of
+#: ``DIAG``, which tie it to a frame at rest at x = 0; 0.0 without walls) and ``ETA_SUM``
+#: the sum of its springs' viscous couplings.
+DIAG, OMS, CFR, FRAME, ETA_SUM = 0, 1, 2, 3, 4
+BLOCK_SIZE = 5
+
 #: Topology and per-block parameters (read-only in the kernels).
 #:
 #: - ``indptr``, ``indices`` (int64[N + 1], int64[nnz]): the graph in CSR form, block i's
 #:   neighbours ``indices[indptr[i]:indptr[i + 1]]``;
 #: - ``kval`` (float64[nnz]): the spring constant of each CSR entry;
-#: - ``diag`` (float64[N]): a block's total stiffness, 1 + sum of its springs;
-#: - ``oms`` (float64[N]): 1 - sigma, the dynamic friction at rest;
-#: - ``cfr`` (float64[N]): 2 alpha / (1 - sigma), the velocity weakening of the friction;
+#: - ``block`` (float64[N, BLOCK_SIZE]): each block's parameters, columns ``DIAG``, ``OMS``,
+#:   ``CFR``, ``FRAME`` and ``ETA_SUM`` (above).  One array rather than one per parameter:
+#:   a kernel call passes each array of a bundle as seven values (its data pointer, shape,
+#:   strides, ...), and with 42 more of them in this bundle a lattice's cold compile took
+#:   0.5 s longer (Numba's lowering and LLVM's function passes of the calls and of the
+#:   kernels' arguments); a block's parameters are also read together;
 #: - ``k_uniform`` (float): the spring constant when every spring has it and ``nbr`` holds
 #:   every neighbour, else 0.0 (the DP5 stages and the join scan then sum the neighbours'
 #:   positions over ``nbr`` and multiply once);
@@ -53,12 +71,10 @@ __all__ = [
 #:   its negative-index wrap-around (2-6% more events/s on W1 and W6);
 #: - ``fault`` (int64[N]): each block's fault, numbered from 0 (all 0 on a graph without
 #:   fault labels), so that an event counts the faults it ruptured;
-#: - ``frame`` (float64[N]): the stiffness of a block's frame springs (``k wall``, part of
-#:   ``diag``), which tie it to a frame at rest at x = 0; zeros without walls;
 #: - ``nu`` (float): the plate's velocity during events (0.0: frozen, the plate moves between
 #:   events only);
-#: - ``eta`` (float64[nnz]): the viscous (Kelvin) coupling of each CSR entry, and ``eta_sum``
-#:   (float64[N]) each block's total; ``viscous`` (bool): whether any is nonzero (else the
+#: - ``eta`` (float64[nnz]): the viscous (Kelvin) coupling of each CSR entry (each block's
+#:   total is ``block[:, ETA_SUM]``); ``viscous`` (bool): whether any is nonzero (else the
 #:   force skips the viscous term); ``eta_uniform`` (float): the dashpots' constant where
 #:   every spring has one, the same, and ``k_uniform`` is set, else 0.0 (the hot force then
 #:   sums the neighbours' velocities in the pass over ``nbr`` that sums their positions).
@@ -68,16 +84,12 @@ Graph = namedtuple(
         "indptr",
         "indices",
         "kval",
-        "diag",
-        "oms",
-        "cfr",
+        "block",
         "k_uniform",
         "nbr",
         "fault",
-        "frame",
         "nu",
         "eta",
-        "eta_sum",
         "viscous",
         "eta_uniform",
     ],
@@ -307,26 +319,25 @@ def graph_bundle(
     hubs = nbr.shape[1] < int(np.diff(indptr).max(initial=0))
     uniform = not hubs and kval.size > 0 and kval[0] > 0.0 and bool(np.all(kval == kval[0]))
     viscous = bool(np.any(eta > 0.0))
+    n = indptr.shape[0] - 1
+    block = np.empty((n, BLOCK_SIZE), dtype=np.float64)
+    block[:, DIAG] = diag
+    block[:, OMS] = oms
+    block[:, CFR] = cfr
+    block[:, FRAME] = 0.0 if frame is None else frame
+    block[:, ETA_SUM] = np.bincount(
+        np.repeat(np.arange(n), np.diff(indptr)), weights=eta, minlength=n
+    )
     return (KelvinGraph if nu > 0.0 or viscous else Graph)(
         indptr=indptr,
         indices=indices,
         kval=kval,
-        diag=np.asarray(diag, dtype=np.float64),
-        oms=np.asarray(oms, dtype=np.float64),
-        cfr=np.asarray(cfr, dtype=np.float64),
+        block=block,
         k_uniform=float(kval[0]) if uniform else 0.0,
         nbr=nbr,
-        fault=np.zeros(indptr.shape[0] - 1, np.int64) if fault is None else fault,
-        frame=(
-            np.zeros(indptr.shape[0] - 1) if frame is None else np.asarray(frame, dtype=np.float64)
-        ),
+        fault=np.zeros(n, np.int64) if fault is None else fault,
         nu=float(nu),
         eta=eta,
-        eta_sum=np.bincount(
-            np.repeat(np.arange(indptr.shape[0] - 1), np.diff(indptr)),
-            weights=eta,
-            minlength=indptr.shape[0] - 1,
-        ).astype(np.float64),
         viscous=viscous,
         eta_uniform=float(eta[0]) if uniform and viscous and bool(np.all(eta == eta[0])) else 0.0,
     )

@@ -32,6 +32,7 @@ join touches), ``graph`` and ``work`` the ``Graph`` and ``Work`` bundles
 
 import numpy as np
 
+from faultnet.solver._kernels.bundles import DIAG
 from faultnet.solver._kernels.carlson_langer.physics import accel, force
 from faultnet.solver._kernels.carlson_langer.response import place_join, stop_answer
 from faultnet.solver._kernels.carlson_langer.stepping import activate, touch
@@ -149,7 +150,7 @@ def _check(j, joining, ncand, ntouch, w, keys, graph, work):
         ntouch = touch(j, w, keys, W, IW, ntouch)
         fl = FRONTIER
     elif not joining:
-        reach = (graph.diag[j] - 1.0) * work.loc[LOC_MOVED]
+        reach = (graph.block[j, DIAG] - 1.0) * work.loc[LOC_MOVED]
         if W[j, AN] + reach * (1.0 + 1e-9) + 1e-12 < 1.0:
             return ncand, ntouch
     if fl == STUCK or fl == FRONTIER:

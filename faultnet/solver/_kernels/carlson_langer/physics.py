@@ -14,9 +14,9 @@ velocity-weakening dynamic friction.  The same force acts on a stuck block (``x_
 A stuck block stays stuck while ``F_i < 1`` (the static threshold) and a slipping block
 sticks when its velocity reaches 0 with its acceleration <= 0.  Between events the plate moves
 and no block does: a stuck block's force is ``1 + w - key_i`` at plate position ``w``
-(:func:`block_key`).  ``diag_i`` includes the
-block's frame springs (``graph.frame``, ``k wall_i``), which tie it to a frame at rest at the
-absolute position 0: only the keys see where the frame is (through the frame offset ``off``).
+(:func:`block_key`).  ``diag_i`` includes the block's frame springs (column ``FRAME``,
+``k wall_i``), which tie it to a frame at rest at the absolute position 0: only the keys see
+where the frame is (through the frame offset ``off``).
 
 Every kernel that needs a force, an acceleration or a rate of the friction calls the kernels
 here: the DP5 stages (:func:`accel_hot`), the crossings (:func:`force`, :func:`accel`, the
@@ -33,15 +33,16 @@ instant (column ``velocities(pos)``), see :mod:`.work`.
 
 Arguments: ``i`` a block, ``pos`` and ``vel`` columns of the work array ``W`` (positions,
 velocities), ``v`` a velocity, ``graph`` the ``Graph`` bundle (springs
-``indptr``, ``indices``, ``kval``, ``nbr``, ``k_uniform``, the per-block ``diag``, ``oms``,
-``cfr``, ``frame``, the plate velocity ``nu`` and the viscous ``eta``, ``eta_sum``,
-``viscous``), ``IW`` the int work array, ``z`` the displacements between events (relative to
-the frame offset ``off``), ``keys`` the failure keys, ``w`` the plate position.
+``indptr``, ``indices``, ``kval``, ``nbr``, ``k_uniform``, the per-block parameters ``block``
+with columns ``DIAG`` (``diag_i``), ``OMS``, ``CFR``, ``FRAME`` and ``ETA_SUM``, the plate
+velocity ``nu`` and the viscous ``eta``, ``viscous``), ``IW`` the int work array, ``z`` the
+displacements between events (relative to the frame offset ``off``), ``keys`` the failure
+keys, ``w`` the plate position.
 """
 
 import numpy as np
 
-from faultnet.solver._kernels.bundles import kelvin
+from faultnet.solver._kernels.bundles import CFR, DIAG, ETA_SUM, FRAME, OMS, kelvin
 from faultnet.solver._kernels.carlson_langer.work import (
     ACTIVE,
     AN,
@@ -90,9 +91,9 @@ def block_key(i, z, off, graph):
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += kval[p] * z[indices[p]]
-    key = 1.0 + graph.diag[i] * z[i] - s
-    if graph.frame[i] != 0.0:
-        key += graph.frame[i] * off
+    key = 1.0 + graph.block[i, DIAG] * z[i] - s
+    if graph.block[i, FRAME] != 0.0:
+        key += graph.block[i, FRAME] * off
     return key
 
 
@@ -118,7 +119,7 @@ def force(i, pos, W, graph):
     s = 0.0
     for p in range(indptr[i], indptr[i + 1]):
         s += kval[p] * W[indices[p], pos]
-    return kelvin_terms(W[i, F0] + s - graph.diag[i] * W[i, pos], i, pos, W, graph)
+    return kelvin_terms(W[i, F0] + s - graph.block[i, DIAG] * W[i, pos], i, pos, W, graph)
 
 
 @kelvin_kernel
@@ -132,7 +133,7 @@ def kelvin_terms(f, i, pos, W, graph):
         s = 0.0
         for p in range(graph.indptr[i], graph.indptr[i + 1]):
             s += graph.eta[p] * W[graph.indices[p], vel]
-        f += s - graph.eta_sum[i] * W[i, vel]
+        f += s - graph.block[i, ETA_SUM] * W[i, vel]
     return f
 
 
@@ -148,10 +149,10 @@ def uniform_dashpots(k, i, pos, W, graph):
     for c in range(width):
         s += W[nbr[i, c], pos]
         sv += W[nbr[i, c], vel]
-    f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
+    f = W[i, F0] + k * s - graph.block[i, DIAG] * W[i, pos]
     if graph.nu > 0.0:
         f += W[PLATE, pos]
-    return f + (graph.eta_uniform * sv - graph.eta_sum[i] * W[i, vel])
+    return f + (graph.eta_uniform * sv - graph.block[i, ETA_SUM] * W[i, vel])
 
 
 @forced_kernel
@@ -175,7 +176,7 @@ def force_hot(i, pos, W, graph):
         s = 0.0
         for c in range(width):
             s += W[nbr[i, c], pos]
-        f = W[i, F0] + k * s - graph.diag[i] * W[i, pos]
+        f = W[i, F0] + k * s - graph.block[i, DIAG] * W[i, pos]
         return kelvin_terms(f, np.int64(i), pos, W, graph)
     return force(np.int64(i), pos, W, graph)  # int64: dopri_step's blocks are unsigned
 
@@ -210,10 +211,10 @@ def stuck_key(i, w, W, graph):
 @kernel
 def friction(i, v, graph):
     """Dynamic friction ``phi_i(v)`` of block ``i`` at velocity ``v`` (floored denominator)."""
-    den = 1.0 + graph.cfr[i] * v
+    den = 1.0 + graph.block[i, CFR] * v
     if den < FRICTION_FLOOR:
         den = FRICTION_FLOOR
-    return graph.oms[i] / den
+    return graph.block[i, OMS] / den
 
 
 @kernel
@@ -237,7 +238,7 @@ def accel_hot(i, pos, v, W, graph):
 @kernel
 def start_accel(i, graph):
     """Acceleration of block ``i`` starting from rest at the threshold: ``1 - phi_i(0)``."""
-    return 1.0 - graph.oms[i]
+    return 1.0 - graph.block[i, OMS]
 
 
 @kernel
@@ -246,10 +247,11 @@ def friction_slope(i, v, graph):
 
     0 where the denominator is floored (the friction is constant there).
     """
-    den = 1.0 + graph.cfr[i] * v
+    cfr = graph.block[i, CFR]
+    den = 1.0 + cfr * v
     if den < FRICTION_FLOOR:
         return 0.0
-    return graph.oms[i] * graph.cfr[i] / (den * den)
+    return graph.block[i, OMS] * cfr / (den * den)
 
 
 @inline_kernel
@@ -260,10 +262,10 @@ def jerk_snap(i, v, a, sv, sa, graph):
     velocities ``sv`` and accelerations ``sa``:
     ``J = sv - diag v + g a``, ``S = sa - diag a + g J - 2 g cfr a^2 / (1 + cfr v)``.
     """
-    diag, cfr = graph.diag, graph.cfr
+    dg, cfr = graph.block[i, DIAG], graph.block[i, CFR]
     g = friction_slope(i, v, graph)
-    j = sv - diag[i] * v + g * a
-    return j, sa - diag[i] * a + g * j - 2.0 * g * cfr[i] * a * a / (1.0 + cfr[i] * v)
+    j = sv - dg * v + g * a
+    return j, sa - dg * a + g * j - 2.0 * g * cfr * a * a / (1.0 + cfr * v)
 
 
 @kernel
@@ -279,7 +281,7 @@ def lone_path(i, v0, p0, p1, p2, p3, p4, graph):
     the truncation error of order ``(omega t)^9 / 9!``: 3e-7 of the path at coefficient 0.8,
     4e-11 at 0.29.
     """
-    dg, oms, cfr = graph.diag[i], graph.oms[i], graph.cfr[i]
+    dg, oms, cfr = graph.block[i, DIAG], graph.block[i, OMS], graph.block[i, CFR]
     a1 = v0
     u1 = cfr * a1
     w0 = 1.0 / (1.0 + u1)

@@ -46,6 +46,7 @@ answer above from overcorrecting: its error is of the same order).
 
 import numpy as np
 
+from faultnet.solver._kernels.bundles import DIAG
 from faultnet.solver._kernels.carlson_langer.physics import force, friction_slope, lone_path
 from faultnet.solver._kernels.carlson_langer.tableau import path_dense
 from faultnet.solver._kernels.carlson_langer.work import (
@@ -92,7 +93,7 @@ def answer(n, k, vbar, i1, i2, i3, i4, graph):
     """(dv, dx) of moving block n (mean velocity ``vbar`` over the step) through a spring k to
     a neighbour's path difference with moments i1..i4."""
     g = friction_slope(n, vbar, graph)
-    dg = graph.diag[n]
+    dg = graph.block[n, DIAG]
     return k * (i1 + g * i2 - dg * i3), k * (i2 + g * i3 - dg * i4)
 
 
