@@ -59,9 +59,9 @@ BLOCK_SIZE = 5
 #: - ``block`` (float64[N, BLOCK_SIZE]): each block's parameters, columns ``DIAG``, ``OMS``,
 #:   ``CFR``, ``FRAME`` and ``ETA_SUM`` (above).  One array rather than one per parameter:
 #:   a kernel call passes each array of a bundle as seven values (its data pointer, shape,
-#:   strides, ...), and with 42 more of them in this bundle a lattice's cold compile took
-#:   0.5 s longer (Numba's lowering and LLVM's function passes of the calls and of the
-#:   kernels' arguments); a block's parameters are also read together;
+#:   strides, ...), and with six more 1-D arrays in this bundle a lattice's cold compile
+#:   spent 0.5 s longer in Numba's lowering and LLVM's passes (the calls' arguments taken
+#:   apart and put together again); a block's parameters are also read together;
 #: - ``k_uniform`` (float): the spring constant when every spring has it and ``nbr`` holds
 #:   every neighbour, else 0.0 (the DP5 stages and the join scan then sum the neighbours'
 #:   positions over ``nbr`` and multiply once);
