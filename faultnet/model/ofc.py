@@ -259,6 +259,7 @@ class OFC:
     @property
     def params(self) -> dict:
         """Parameters and a description of the graph, for metadata."""
+        heterogeneous, frame_springs = self._array_summary
         params = {
             "model": "ofc",
             "graph": self.graph.graph.get("name", f"{type(self.graph).__name__}({self.n} nodes)"),
@@ -267,10 +268,10 @@ class OFC:
             "k": self.k,
             "alpha": self.alpha,
             "update": self.update,
-            "heterogeneous": self._array_summary[0],
+            "heterogeneous": heterogeneous,
         }
-        if self._array_summary[1]:
-            params["frame_springs"] = self._array_summary[1]
+        if frame_springs:
+            params["frame_springs"] = frame_springs
         return params
 
     @cached_property
